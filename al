@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# One entry point for people: ./al demo | ./al test | ./al build | ./al bench [--quick]
+# Each step installs what is missing and builds first, so a fresh Debian 12 machine needs nothing else.
+set -euo pipefail
+here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+build="${AL_BUILD_DIR:-$here/build}"
+jobs="$(nproc 2>/dev/null || echo 2)"
+
+build_all() {
+  "$here/scripts/setup"
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" -j "$jobs"
+}
+
+cmd="${1:-help}"
+shift || true
+case "$cmd" in
+  build) build_all ;;
+  demo)
+    build_all
+    exec "$here/scripts/demo" "$build/al-refine" "$@"
+    ;;
+  test)
+    build_all
+    cd "$build"
+    exec ctest --output-on-failure -j "$jobs" "$@"
+    ;;
+  bench)
+    build_all
+    exec "$here/bench/run" "$@"
+    ;;
+  *)
+    echo "usage: ./al demo | test | build | bench [--quick]" >&2
+    echo "  demo   install deps, build, run the main job on a generated scene" >&2
+    echo "  test   install deps, build, run every test (ctest)" >&2
+    exit 1
+    ;;
+esac

@@ -1,0 +1,25 @@
+// Every subcommand writes a machine-readable report.json (SPEC §1) with at least:
+// status, command, params, inputs, counts, timings_s, warnings.
+#pragma once
+#include <filesystem>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace al {
+
+// A report skeleton for `command` (e.g. "refine"), status "ok".
+nlohmann::json NewReport(const std::string& command);
+
+// Records an input file under report["inputs"][role]: path, size in bytes and, for files up to
+// 64 MiB, its SHA-256.
+void AddInputFile(nlohmann::json& report, const std::string& role, const std::filesystem::path& path);
+
+// Writes report.json into dir atomically (pretty-printed).
+void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report,
+                 const std::string& file_name = "report.json");
+
+// Hex SHA-256 of a file's bytes.
+std::string Sha256File(const std::filesystem::path& path);
+
+}  // namespace al

@@ -1,0 +1,63 @@
+#include "al/core/report.hpp"
+
+#include <openssl/evp.h>
+
+#include <array>
+#include <fstream>
+
+#include "al/core/atomic_file.hpp"
+#include "al/core/error.hpp"
+
+namespace al {
+
+nlohmann::json NewReport(const std::string& command) {
+  return {{"status", "ok"},
+          {"command", command},
+          {"version", "0.1.0"},
+          {"params", nlohmann::json::object()},
+          {"inputs", nlohmann::json::object()},
+          {"counts", nlohmann::json::object()},
+          {"timings_s", nlohmann::json::object()},
+          {"warnings", nlohmann::json::array()}};
+}
+
+std::string Sha256File(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw FileError(path.string(), "cannot open for reading");
+  EVP_MD_CTX* ctx = EVP_MD_CTX_new();
+  EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
+  std::array<char, 1 << 16> buffer;
+  while (in) {
+    in.read(buffer.data(), buffer.size());
+    if (in.gcount() > 0) EVP_DigestUpdate(ctx, buffer.data(), static_cast<std::size_t>(in.gcount()));
+  }
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  EVP_DigestFinal_ex(ctx, digest, &length);
+  EVP_MD_CTX_free(ctx);
+  static const char* hex = "0123456789abcdef";
+  std::string out;
+  for (unsigned int i = 0; i < length; ++i) {
+    out += hex[digest[i] >> 4];
+    out += hex[digest[i] & 15];
+  }
+  return out;
+}
+
+void AddInputFile(nlohmann::json& report, const std::string& role, const std::filesystem::path& path) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  nlohmann::json entry = {{"path", path.string()}};
+  if (!ec) {
+    entry["bytes"] = size;
+    if (size <= (64u << 20)) entry["sha256"] = Sha256File(path);
+  }
+  report["inputs"][role] = entry;
+}
+
+void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report, const std::string& file_name) {
+  EnsureDirectory(dir);
+  WriteFileAtomically(dir / file_name, report.dump(2) + "\n");
+}
+
+}  // namespace al
