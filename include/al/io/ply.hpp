@@ -1,0 +1,48 @@
+// 3DGS PLY reading and writing (RASTERIZER.md §10.1, FORMATS.md §2.1).
+#pragma once
+#include <string>
+#include <vector>
+
+#include "al/scene/scene.hpp"
+
+namespace al {
+
+struct PlyReadOptions {
+  // Feature columns: "auto" finds the first present of semantic_, obj_dc_, f_semantic_, feat_;
+  // "none" loads no features; otherwise an explicit prefix such as "obj_dc_".
+  std::string feature_prefix = "auto";
+  // Require the columns a renderer needs (opacity, rot_*, f_dc_*); refinement needs only x y z scale_*.
+  bool require_render_columns = false;
+  // Require scale_0..2 (false only for subset PLYs used for matching, which need just x y z).
+  bool require_scales = true;
+};
+
+// Reads a PLY (ascii, binary LE/BE, any scalar type, properties by name). Memory-mapped, one pass.
+// Throws al::Error naming the file on truncated/corrupt/inconsistent input.
+Scene ReadPly(const std::string& path, const PlyReadOptions& options = {});
+
+// Reads an antimatter15 .splat file (32-byte records; SH degree 0). Converted to raw values:
+// log_scales = log(scale), opacity logit from a/255 (clamped away from 0 and 1), f_dc from rgb.
+Scene ReadSplat(const std::string& path);
+
+// By extension: .ply or .splat.
+Scene ReadScene(const std::string& path, const PlyReadOptions& options = {});
+
+// Writes the vertices with keep[i] == true. With scene.ply present: the source header (vertex
+// count rewritten) and each kept record copied byte for byte, all properties kept.
+// Without it (a generated or .splat scene): a standard binary little-endian INRIA layout with
+// features as <prefix><d> (prefix "semantic_" if scene.feature_prefix is empty).
+// keep empty = keep everything. Written atomically.
+void WritePly(const std::string& path, const Scene& scene, const std::vector<bool>& keep = {});
+
+// Counts of non-finite values per standard column group (reported by `info`, excluded later).
+struct NonFiniteCounts {
+  std::size_t means = 0, scales = 0, rotations = 0, opacities = 0, sh = 0, features = 0;
+  std::size_t gaussians_with_any = 0;  // Gaussians with at least one non-finite standard value
+};
+NonFiniteCounts CountNonFinite(const Scene& scene);
+
+// true for Gaussians whose standard parameters (means, scales, rotations, opacity, SH) are all finite.
+std::vector<bool> FiniteMask(const Scene& scene);
+
+}  // namespace al

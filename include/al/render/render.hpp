@@ -1,0 +1,59 @@
+// CPU 3DGS rasterizer reproducing the INRIA forward pass (RASTERIZER.md).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "al/io/camera.hpp"
+#include "al/scene/scene.hpp"
+
+namespace al {
+
+struct RenderOptions {
+  Eigen::Vector3f background = Eigen::Vector3f::Zero();
+  float scale_modifier = 1.0f;
+  int max_sh_degree = 3;            // evaluated degree = min(scene.sh_degree, this)
+  bool frustum_cull = true;         // extra cull that never changes a pixel (RASTERIZER.md §9)
+  int num_threads = 0;              // 0 = OpenMP default
+  bool compute_front_id = true;
+};
+
+struct RenderOutput {
+  int width = 0, height = 0;
+  std::vector<float> rgb;           // H*W*3, background composited, not clamped
+  std::vector<float> alpha;         // H*W
+  std::vector<float> depth;         // H*W expected depth (normalised by alpha), 0 on background
+  std::vector<float> invdepth;      // H*W, not normalised
+  std::vector<std::int32_t> front_id;  // H*W scene index of the first blended Gaussian, -1 if none
+  std::vector<std::int32_t> radii;  // per scene Gaussian (0 = invisible or excluded)
+  // Statistics.
+  std::size_t visible_gaussians = 0, excluded_nonfinite = 0;
+  std::size_t tiles_total = 0, tiles_rendered = 0, tiles_copied = 0;
+  double seconds_preprocess = 0, seconds_binning = 0, seconds_composite = 0;
+};
+
+// Per-view state a "before" render keeps so an "after" render can be incremental.
+struct RenderCache;
+
+// Full render of the scene without the Gaussians where exclude[i] is true (exclude may be empty).
+RenderOutput Render(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
+                    const std::vector<bool>& exclude = {});
+
+// Renders "before" and keeps what an incremental "after" render needs.
+class IncrementalRenderer {
+ public:
+  IncrementalRenderer(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
+                      const std::vector<bool>& base_exclude = {});
+  ~IncrementalRenderer();
+  const RenderOutput& before() const;
+  // Bit-identical to Render(scene, camera, options, base_exclude OR removed); only tiles whose
+  // lists contain a removed Gaussian are recomposited.
+  RenderOutput After(const std::vector<bool>& removed) const;
+
+ private:
+  RenderCache* cache_;
+};
+
+}  // namespace al
