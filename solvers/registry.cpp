@@ -3,6 +3,7 @@
 
 #include "al/core/error.hpp"
 #include "al/solver.hpp"
+#include "bk/bk_solver.hpp"
 
 namespace al {
 namespace {
@@ -11,6 +12,7 @@ using Factory = std::unique_ptr<Solver> (*)(const nlohmann::json& options);
 
 const std::vector<std::pair<std::string, Factory>>& Table() {
   static const std::vector<std::pair<std::string, Factory>> table = {
+      {"bk", &MakeBkSolver},
       // {"bk", &MakeBkSolver}, {"cp", &MakeCutPursuitSolver}, {"exact", &MakeExactSolver}
   };
   return table;
