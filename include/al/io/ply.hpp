@@ -1,7 +1,11 @@
 // 3DGS PLY reading and writing (RASTERIZER.md §10.1, FORMATS.md §2.1).
 #pragma once
+#include <cstddef>
+#include <cstdint>
 #include <string>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "al/scene/scene.hpp"
 
@@ -25,6 +29,11 @@ Scene ReadPly(const std::string& path, const PlyReadOptions& options = {});
 // log_scales = log(scale), opacity logit from a/255 (clamped away from 0 and 1), f_dc from rgb.
 Scene ReadSplat(const std::string& path);
 
+// In-memory variants (fuzzing, tests): `name` is used in error messages and as source_path.
+Scene ReadPlyFromMemory(const void* data, std::size_t size, const std::string& name,
+                        const PlyReadOptions& options = {});
+Scene ReadSplatFromMemory(const void* data, std::size_t size, const std::string& name);
+
 // By extension: .ply or .splat.
 Scene ReadScene(const std::string& path, const PlyReadOptions& options = {});
 
@@ -44,5 +53,22 @@ NonFiniteCounts CountNonFinite(const Scene& scene);
 
 // true for Gaussians whose standard parameters (means, scales, rotations, opacity, SH) are all finite.
 std::vector<bool> FiniteMask(const Scene& scene);
+
+// What `al-refine info` reports about a scene (finite values only in the statistics).
+struct SceneSummary {
+  std::size_t num_gaussians = 0;
+  int sh_degree = 0;
+  std::size_t feature_dim = 0;
+  std::string feature_prefix;
+  std::string source_format;
+  float bbox_min[3] = {0, 0, 0}, bbox_max[3] = {0, 0, 0};  // over finite means
+  // min / median / max / mean of max_k exp(scale_k) and of sigmoid(opacity), finite rows only.
+  double scale_min = 0, scale_median = 0, scale_max = 0, scale_mean = 0;
+  double opacity_min = 0, opacity_median = 0, opacity_max = 0, opacity_mean = 0;
+  NonFiniteCounts nonfinite;
+};
+SceneSummary SummarizeScene(const Scene& scene);
+nlohmann::json SummaryToJson(const SceneSummary& summary);
+std::string SummaryToText(const SceneSummary& summary);  // several human-readable lines
 
 }  // namespace al

@@ -1,0 +1,43 @@
+#include "src/io/mapped_file.hpp"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
+
+#include "al/core/error.hpp"
+
+namespace al::io {
+
+MappedFile::MappedFile(const std::string& path) {
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    ::close(fd);
+    throw FileError(path, "not a regular file");
+  }
+  size_ = static_cast<std::size_t>(st.st_size);
+  if (size_ > 0) {
+    void* p = ::mmap(nullptr, size_, PROT_READ, MAP_PRIVATE, fd, 0);
+    if (p == MAP_FAILED) {
+      const int err = errno;
+      ::close(fd);
+      throw FileError(path, std::string("cannot memory-map: ") + std::strerror(err));
+    }
+    // One sequential pass: ask the kernel to read ahead aggressively.
+    ::madvise(p, size_, MADV_SEQUENTIAL);
+    ::madvise(p, size_, MADV_WILLNEED);
+    data_ = static_cast<const unsigned char*>(p);
+  }
+  ::close(fd);  // the mapping stays valid after close
+}
+
+MappedFile::~MappedFile() {
+  if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
+}
+
+}  // namespace al::io
