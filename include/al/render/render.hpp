@@ -30,7 +30,10 @@ struct RenderOutput {
   std::vector<std::int32_t> radii;  // per scene Gaussian (0 = invisible or excluded)
   // Statistics.
   std::size_t visible_gaussians = 0, excluded_nonfinite = 0;
+  // Finite parameters whose projection overflowed (e.g. log-scale 60): never rendered, counted.
+  std::size_t excluded_degenerate = 0;
   std::size_t tiles_total = 0, tiles_rendered = 0, tiles_copied = 0;
+  std::size_t tile_entries = 0;     // (Gaussian, tile) pairs in the tile lists
   double seconds_preprocess = 0, seconds_binning = 0, seconds_composite = 0;
 };
 
@@ -41,12 +44,20 @@ struct RenderCache;
 RenderOutput Render(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
                     const std::vector<bool>& exclude = {});
 
+// Slow per-pixel reference (src/render/reference_render.cpp): same preprocessing, then for every
+// pixel a loop over all visible Gaussians sorted by (tz, index), testing tile-rectangle
+// membership per pixel. Single-threaded; for tests of the fast path only.
+RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
+                             const std::vector<bool>& exclude = {});
+
 // Renders "before" and keeps what an incremental "after" render needs.
 class IncrementalRenderer {
  public:
   IncrementalRenderer(const Scene& scene, const Camera& camera, const RenderOptions& options = {},
                       const std::vector<bool>& base_exclude = {});
   ~IncrementalRenderer();
+  IncrementalRenderer(const IncrementalRenderer&) = delete;
+  IncrementalRenderer& operator=(const IncrementalRenderer&) = delete;
   const RenderOutput& before() const;
   // Bit-identical to Render(scene, camera, options, base_exclude OR removed); only tiles whose
   // lists contain a removed Gaussian are recomposited.
