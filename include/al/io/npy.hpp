@@ -29,6 +29,14 @@ struct NpyArray {
 // Memory-maps and validates; throws al::Error naming the file on any problem.
 NpyArray ReadNpy(const std::string& path);
 
+// Parses an in-memory .npy image (used by ReadNpy and the fuzz target). `owner` keeps `bytes`
+// alive and is stored in the result; `name` prefixes error messages. Throws al::Error.
+NpyArray ParseNpy(std::shared_ptr<const void> owner, const std::uint8_t* bytes, std::size_t size,
+                  const std::string& name);
+
+// IEEE 754 binary16 -> float (exact for every value: subnormals, infinities, NaN).
+float HalfToFloat(std::uint16_t h);
+
 // Writers (version 1.0, C order, 64-byte aligned header), atomic.
 void WriteNpy(const std::string& path, const std::vector<float>& data, const std::vector<std::int64_t>& shape);
 void WriteNpy(const std::string& path, const std::vector<double>& data, const std::vector<std::int64_t>& shape);
