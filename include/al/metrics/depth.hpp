@@ -1,0 +1,90 @@
+// acc_Δdepth (METRICS.md §4–§6): the published 8-bit pipeline (inverted min–max LUT image, GHT,
+// `byte < t`), the project's float mode, and the float → 8-bit depth conversion of §6.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "al/metrics/mask.hpp"
+#include "al/metrics/stats.hpp"
+
+namespace al::metrics {
+
+// Generalized Histogram Thresholding (Barron, ECCV 2020) parameters; defaults = published values.
+struct GhtOptions {
+  double nu = 1000, tau = 300, kappa = 0, omega = 0;
+};
+
+using Histogram256 = std::array<std::int64_t, 256>;
+
+// Threshold t over bin centres 0..255: the mean of all split indices i (class 0 = bins ≤ i) whose
+// objective equals the maximum exactly (METRICS.md §4 step 4). An empty histogram ties on every
+// split (t = 127).
+double GhtThreshold(const Histogram256& histogram, const GhtOptions& options = {});
+// The per-split objective f_i, i = 0..254 (exposed for tests).
+std::array<double, 255> GhtObjective(const Histogram256& histogram, const GhtOptions& options = {});
+
+// matplotlib `gray_r` byte of colormap index i: trunc(255·(1 − i·(1/255))) in double precision.
+const std::array<std::uint8_t, 256>& GrayReversedLut();
+
+// Result of a depth-change detection, in either mode.
+struct DepthChange {
+  Mask changed;              // the thresholded change mask (all false when constant)
+  Gray8 image;               // 8-bit: the inverted byte image; float: the bin image b (0 = no change)
+  double threshold = 0;      // GHT t
+  bool constant = false;     // the raw `changed` was all true or all false (8-bit mode → no change)
+  std::size_t valid_pixels = 0;  // pixels where both depths are valid
+};
+
+// 8-bit mode. D1 = before, D2 = after, same size (throws al::Error otherwise); 0 = no depth.
+DepthChange DepthChange8Bit(const Gray8& before, const Gray8& after, const GhtOptions& options = {});
+
+// Float renders: expected depth and alpha per pixel (alpha may be empty: then every finite depth
+// > 0 is a hit).
+struct DepthRender {
+  int width = 0, height = 0;
+  std::vector<float> depth, alpha;
+};
+enum class DepthNorm { kMaxDiff, kRange };
+const char* DepthNormName(DepthNorm norm);
+struct FloatDepthOptions {
+  DepthNorm depth_norm = DepthNorm::kMaxDiff;  // normaliser R of METRICS.md §5 step 2
+  float alpha_hit = 0.0f;                      // a pixel is a hit iff alpha > alpha_hit
+  GhtOptions ght;
+};
+std::vector<std::uint8_t> HitMask(const DepthRender& render, float alpha_hit);
+DepthChange DepthChangeFloat(const DepthRender& before, const DepthRender& after, const FloatDepthOptions& options = {});
+
+// METRICS.md §6: the published-pipeline 8-bit depth pair from float renders (joint scale).
+struct Depth8Pair {
+  Gray8 before, after;
+  double zmin = 0, zmax = 0;
+  std::size_t hits_before = 0, hits_after = 0;
+};
+Depth8Pair DepthTo8Bit(const DepthRender& before, const DepthRender& after, float alpha_hit = 0.0f);
+
+// Score (METRICS.md §4 step 6): object = masks/X.png > 0, nullptr = missing (empty, still counts).
+// `changed` is resized to the object's size with the "exact" rule.
+struct DepthScore {
+  double acc_delta_depth = 0, iou = 0;
+  double collateral_depth = 0;  // |changed ∩ Ō| / |Ō| (§7), 0 if Ō empty
+  bool missing_object = false;
+};
+DepthScore ScoreDepthChange(const Mask* object, const Mask& changed);
+
+// Per-image record of depth.json.
+struct DepthRecord {
+  std::string image;
+  DepthScore score;
+  double threshold = 0;
+  bool constant = false;
+};
+// Per-scene mean/std over the records given (pooled: pass the records of all scenes).
+struct DepthSummary {
+  MeanStd acc_delta_depth, iou, collateral_depth;
+  std::size_t images = 0, constant_masks = 0, missing_object = 0;
+};
+DepthSummary SummarizeDepth(const std::vector<DepthRecord>& records);
+
+}  // namespace al::metrics
