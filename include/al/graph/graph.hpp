@@ -1,0 +1,74 @@
+// The refinement graph (SPEC §4): candidates by sphere intersection with the removed set, kNN
+// among candidates, a semantic gate on feature distance, similarity weights, and the
+// RefineProblem every solver takes.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/graph/problem.hpp"
+#include "al/scene/scene.hpp"
+
+namespace al {
+
+enum class DeltaMode {
+  kDistance,  // δ bounds ‖f̂_u − f̂_v‖ (default; δ = 0.8 ⇔ cosine ≥ 0.68)
+  kCosine,    // δ is a cosine threshold; distance bound √(2(1 − δ))
+};
+
+struct GraphOptions {
+  int k = 10;                      // neighbours per node
+  double delta = 0.8;              // semantic gate (see delta_mode)
+  DeltaMode delta_mode = DeltaMode::kDistance;
+  double lambda = 1.0;             // edge weight scale (included in edge_weights)
+  bool spatial = true;             // multiply weights by exp(−d_x²/σ_x²)
+  int hops = 1;                    // candidate growth repetitions
+  double radius_scale = 1.0;       // r_i = max_k exp(scale_ik) · radius_scale
+  int knn_checks = 0;              // 0 = exact kNN; > 0 approximate (FLANN checks)
+  double kl_smoothing = 0.1;       // copied into the problem
+  // Features: true = L2-normalise rows, zero-norm rows get no edges (semantic features);
+  // false = raw Euclidean distance (colour fallback, SPEC §3).
+  bool normalize_features = true;
+};
+
+struct GraphStats {
+  std::size_t num_gaussians = 0;
+  std::size_t excluded_nonfinite = 0;   // Gaussians with a non-finite parameter or feature
+  std::size_t removed_nodes = 0;        // |R| among finite Gaussians
+  std::size_t nodes = 0;                // |C|
+  std::vector<std::size_t> added_per_hop;
+  std::size_t huge_spheres = 0;
+  std::size_t edges_knn = 0;            // undirected kNN edges before the gate
+  std::size_t edges = 0;                // after the gate
+  std::size_t components = 0;           // connected components of the final graph (singletons included)
+  std::size_t isolated = 0;             // nodes without an edge
+  std::size_t zero_norm_features = 0;   // candidate nodes whose feature has zero norm
+  std::size_t knn_tie_retries = 0;
+  std::size_t feature_dim = 0;
+  double gate_distance = 0.0;           // distance bound actually applied (= σ_f)
+  double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
+  std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
+  double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;
+};
+
+struct GraphResult {
+  RefineProblem problem;                // nodes in ascending scene index
+  GraphStats stats;
+  std::vector<std::uint8_t> excluded;   // N: 1 = non-finite, excluded from the graph
+  std::vector<std::uint8_t> zero_norm;  // per node: feature of zero norm
+  std::vector<std::string> warnings;
+};
+
+// features: N×D rows (scene order); D = 0 is an error (use ColourFeatures). removed: N.
+// Throws al::Error on size mismatches or bad options.
+GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+                             const std::vector<bool>& removed, const GraphOptions& options = {});
+
+// Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
+RowMatXf ColourFeatures(const Scene& scene);
+
+nlohmann::json GraphStatsToJson(const GraphStats& stats);
+
+}  // namespace al

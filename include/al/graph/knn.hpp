@@ -1,0 +1,34 @@
+// k nearest neighbours among a point set (SPEC §4.3) with FLANN. Exact by default
+// (KDTreeSingleIndex); checks > 0 selects FLANN's randomized kd-trees with that many leaf checks
+// (approximate). The query point is excluded by index, not by distance (duplicates are neighbours
+// at distance 0); equal distances are broken by the smaller point index — more neighbours are
+// requested until the k-th is no longer tied with the last returned one, so the answer does not
+// depend on the tree's traversal order. Queries run in Morton order (cache locality), OpenMP over
+// blocks; the result is independent of the thread count.
+#pragma once
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace al {
+
+struct KnnOptions {
+  int k = 10;       // neighbours per point (fewer when the set is smaller)
+  int checks = 0;   // 0 = exact; > 0 = approximate (randomized kd-trees, this many checks)
+};
+
+struct KnnResult {
+  int k = 0;                             // row stride
+  std::vector<std::int32_t> neighbors;   // n*k, ascending (squared distance, index); -1 = none
+  std::vector<float> sq_dist;            // n*k, FLANN's float squared distances
+  std::size_t tie_retries = 0;           // queries re-run because of a tie at the boundary
+  double seconds = 0.0;
+};
+
+// xyz: n×3 row-major.
+KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options = {});
+
+// 63-bit Morton code order of the points (ties by index); exposed for the benchmarks.
+std::vector<std::int32_t> MortonOrder(std::span<const float> xyz);
+
+}  // namespace al

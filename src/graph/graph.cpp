@@ -1,0 +1,312 @@
+// BuildRefineGraph: SPEC §4 end to end (see graph.hpp). Every parallel loop writes per-item
+// results and every reduction runs sequentially, so the graph does not depend on the thread count.
+#include "al/graph/graph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "al/core/error.hpp"
+#include "al/core/timer.hpp"
+#include "al/graph/candidates.hpp"
+#include "al/graph/knn.hpp"
+
+namespace al {
+namespace {
+
+bool RowFinite(const auto& m, Eigen::Index i) {
+  for (Eigen::Index c = 0; c < m.cols(); ++c)
+    if (!std::isfinite(m(i, c))) return false;
+  return true;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  const std::size_t h = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + h, v.end());
+  if (v.size() % 2) return v[h];
+  const double hi = v[h];
+  const double lo = *std::max_element(v.begin(), v.begin() + h);
+  return 0.5 * (lo + hi);
+}
+
+std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
+  while (parent[x] != x) x = parent[x] = parent[parent[x]];
+  return x;
+}
+
+}  // namespace
+
+RowMatXf ColourFeatures(const Scene& scene) {
+  if (scene.sh.rows() != static_cast<Eigen::Index>(scene.size()) || scene.sh.cols() < 3)
+    throw Error(scene.source_path + ": no f_dc colour columns for the colour fallback", ExitCode::kBadInput);
+  constexpr float kC0 = 0.28209479177387814f;
+  RowMatXf rgb(scene.size(), 3);
+  for (std::size_t i = 0; i < scene.size(); ++i)
+    for (int c = 0; c < 3; ++c) rgb(i, c) = 0.5f + kC0 * scene.sh(i, c);
+  return rgb;
+}
+
+GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+                             const std::vector<bool>& removed, const GraphOptions& options) {
+  Timer total;
+  const std::size_t N = scene.size();
+  const auto n_rows = static_cast<Eigen::Index>(N);
+  if (removed.size() != N)
+    throw Error("removal mask has " + std::to_string(removed.size()) + " entries, scene has " +
+                std::to_string(N), ExitCode::kBadInput);
+  if (features.rows() != n_rows || features.cols() == 0)
+    throw Error("features: expected " + std::to_string(N) + " rows with D > 0, got " +
+                std::to_string(features.rows()) + "x" + std::to_string(features.cols()),
+                ExitCode::kBadInput);
+  if (scene.log_scales.rows() != n_rows)
+    throw Error(scene.source_path + ": scale columns missing", ExitCode::kBadInput);
+  if (options.k < 1) throw Error("--k must be >= 1", ExitCode::kUsage);
+  if (options.hops < 0) throw Error("--hops must be >= 0", ExitCode::kUsage);
+  if (!(options.radius_scale > 0) || !std::isfinite(options.radius_scale))
+    throw Error("--radius-scale must be a positive number", ExitCode::kUsage);
+  if (!(options.lambda >= 0) || !std::isfinite(options.lambda))
+    throw Error("--lambda must be >= 0", ExitCode::kUsage);
+  if (!(options.kl_smoothing > 0 && options.kl_smoothing < 1))
+    throw Error("--kl-smoothing must be in (0, 1)", ExitCode::kUsage);
+  double gate = options.delta;
+  if (options.delta_mode == DeltaMode::kCosine) {
+    if (!(options.delta >= -1 && options.delta <= 1))
+      throw Error("--delta in cosine mode must be in [-1, 1]", ExitCode::kUsage);
+    if (!options.normalize_features)
+      throw Error("--delta-mode cosine needs normalised semantic features (not the colour fallback)",
+                  ExitCode::kUsage);
+    gate = std::sqrt(2.0 * (1.0 - options.delta));
+  } else if (!(options.delta >= 0) || !std::isfinite(options.delta)) {
+    throw Error("--delta must be >= 0", ExitCode::kUsage);
+  }
+
+  GraphResult out;
+  GraphStats& st = out.stats;
+  st.num_gaussians = N;
+  st.feature_dim = static_cast<std::size_t>(features.cols());
+  st.gate_distance = gate;
+
+  // 1. Activity (all parameters finite) and radii.
+  Timer stage;
+  std::vector<std::uint8_t> active(N), seeds(N);
+  std::vector<double> radii(N, 0.0);
+  std::vector<float> xyz(3 * N);
+  const bool has_rot = scene.rotations.rows() == n_rows;
+  const bool has_op = scene.opacity_logits.size() == n_rows;
+  const bool has_sh = scene.sh.rows() == n_rows;
+  const auto nn = static_cast<std::int64_t>(N);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < nn; ++i) {
+    bool ok = RowFinite(scene.means, i) && RowFinite(scene.log_scales, i) &&
+              RowFinite(features, i) && (!has_rot || RowFinite(scene.rotations, i)) &&
+              (!has_op || std::isfinite(scene.opacity_logits[i])) && (!has_sh || RowFinite(scene.sh, i));
+    double r = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      xyz[3 * i + a] = scene.means(i, a);
+      r = std::max(r, std::exp(double(scene.log_scales(i, a))));
+    }
+    r *= options.radius_scale;
+    if (!std::isfinite(r)) ok = false;  // exp overflow: no usable sphere
+    active[i] = ok;
+    radii[i] = r;
+    seeds[i] = removed[i] ? 1 : 0;
+  }
+  out.excluded.resize(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    out.excluded[i] = !active[i];
+    st.excluded_nonfinite += !active[i];
+  }
+
+  // 2. Candidates.
+  CandidateStats cst;
+  const std::vector<std::uint8_t> in_c = GrowCandidates(xyz, radii, active, seeds, options.hops, &cst);
+  st.removed_nodes = cst.seeds;
+  st.added_per_hop = cst.added_per_hop;
+  st.huge_spheres = cst.huge_spheres;
+  RefineProblem& P = out.problem;
+  P.kl_smoothing = options.kl_smoothing;
+  for (std::size_t i = 0; i < N; ++i)
+    if (in_c[i]) P.node_ids.push_back(static_cast<std::int64_t>(i));
+  const std::size_t V = P.node_ids.size();
+  st.nodes = V;
+  P.y_remove.resize(V);
+  P.node_weights.assign(V, 1.0);
+  std::vector<float> node_xyz(3 * V);
+  for (std::size_t v = 0; v < V; ++v) {
+    const std::size_t i = static_cast<std::size_t>(P.node_ids[v]);
+    P.y_remove[v] = removed[i] ? 1.0 : 0.0;
+    for (int a = 0; a < 3; ++a) node_xyz[3 * v + a] = xyz[3 * i + a];
+  }
+  st.seconds_candidates = stage.Seconds();
+
+  // 3. kNN among candidates.
+  stage.Reset();
+  KnnOptions ko;
+  ko.k = options.k;
+  ko.checks = options.knn_checks;
+  const KnnResult knn = KnnAmongPoints(node_xyz, ko);
+  st.knn_tie_retries = knn.tie_retries;
+  st.seconds_knn = stage.Seconds();
+
+  // 4. Gate and weights.
+  stage.Reset();
+  const int K = knn.k;
+  const Eigen::Index D = features.cols();
+  std::vector<double> inv_norm(V, 1.0);
+  out.zero_norm.assign(V, 0);
+  if (options.normalize_features) {
+    for (std::size_t v = 0; v < V; ++v) {
+      const double nrm = features.row(P.node_ids[v]).cast<double>().norm();
+      if (nrm > 0.0) inv_norm[v] = 1.0 / nrm;
+      else {
+        out.zero_norm[v] = 1;
+        ++st.zero_norm_features;
+      }
+    }
+  }
+  auto xdist2 = [&](std::size_t u, std::size_t v) {
+    double s = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double d = double(node_xyz[3 * u + a]) - node_xyz[3 * v + a];
+      s += d * d;
+    }
+    return s;
+  };
+  // σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.
+  if (!options.spatial) {
+    st.sigma_x_source = "off";
+  } else {
+    std::vector<double> d;
+    d.reserve(V * K);
+    for (std::size_t u = 0; u < V; ++u)
+      for (int c = 0; c < K; ++c) {
+        const std::int32_t v = knn.neighbors[u * K + c];
+        if (v < 0) continue;
+        const double x = std::sqrt(xdist2(u, v));
+        if (x > 0) d.push_back(x);
+      }
+    if (!d.empty()) {
+      st.sigma_x = Median(std::move(d));
+      st.sigma_x_source = "median_knn_distance";
+    } else {
+      std::vector<double> r(V);
+      for (std::size_t v = 0; v < V; ++v) r[v] = radii[P.node_ids[v]];
+      st.sigma_x = Median(std::move(r));
+      st.sigma_x_source = "median_radius";
+    }
+  }
+  // Undirected pairs stored at the smaller endpoint: count, fill, sort, unique.
+  std::vector<std::int64_t> row_start(V + 1, 0);
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < K; ++c) {
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) ++row_start[std::min<std::size_t>(u, v) + 1];
+    }
+  for (std::size_t v = 0; v < V; ++v) row_start[v + 1] += row_start[v];
+  std::vector<std::int32_t> cand(row_start[V]);
+  {
+    std::vector<std::int64_t> cur(row_start.begin(), row_start.end() - 1);
+    for (std::size_t u = 0; u < V; ++u)
+      for (int c = 0; c < K; ++c) {
+        const std::int32_t v = knn.neighbors[u * K + c];
+        if (v < 0) continue;
+        const std::size_t a = std::min<std::size_t>(u, v), b = std::max<std::size_t>(u, v);
+        cand[cur[a]++] = static_cast<std::int32_t>(b);
+      }
+  }
+  std::vector<std::int64_t> kept(V, 0), unique_count(V, 0);
+  std::vector<double> cand_w(cand.size(), 0.0);
+  const double sf2 = gate * gate, sx2 = st.sigma_x * st.sigma_x;
+  const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(dynamic, 512)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    auto* b = cand.data() + row_start[u];
+    auto* e = cand.data() + row_start[u + 1];
+    std::sort(b, e);
+    e = std::unique(b, e);
+    unique_count[u] = e - b;
+    std::int64_t w_at = row_start[u];
+    const auto fu = features.row(P.node_ids[u]);
+    for (auto* it = b; it != e; ++it) {
+      const std::int32_t v = *it;
+      if (out.zero_norm[u] || out.zero_norm[v]) continue;
+      const auto fv = features.row(P.node_ids[v]);
+      double df2 = 0;
+      for (Eigen::Index d = 0; d < D; ++d) {
+        const double t = double(fu[d]) * inv_norm[u] - double(fv[d]) * inv_norm[v];
+        df2 += t * t;
+      }
+      if (!(std::sqrt(df2) <= gate)) continue;
+      double w = options.lambda * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
+      if (options.spatial && sx2 > 0) w *= std::exp(-xdist2(u, v) / sx2);
+      cand[w_at] = v;
+      cand_w[w_at] = w;
+      ++w_at;
+    }
+    kept[u] = w_at - row_start[u];
+  }
+  P.first_edge.assign(V + 1, 0);
+  for (std::size_t u = 0; u < V; ++u) {
+    P.first_edge[u + 1] = P.first_edge[u] + kept[u];
+    st.edges_knn += static_cast<std::size_t>(unique_count[u]);
+  }
+  P.adj_vertices.resize(P.first_edge[V]);
+  P.edge_weights.resize(P.first_edge[V]);
+  for (std::size_t u = 0; u < V; ++u) {
+    std::copy_n(cand.begin() + row_start[u], kept[u], P.adj_vertices.begin() + P.first_edge[u]);
+    std::copy_n(cand_w.begin() + row_start[u], kept[u], P.edge_weights.begin() + P.first_edge[u]);
+  }
+  st.edges = P.adj_vertices.size();
+
+  // 5. Components and isolated nodes.
+  std::vector<std::int32_t> parent(V);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::uint8_t> has_edge(V, 0);
+  for (std::size_t u = 0; u < V; ++u)
+    for (auto e = P.first_edge[u]; e < P.first_edge[u + 1]; ++e) {
+      const std::int32_t v = P.adj_vertices[e];
+      has_edge[u] = has_edge[v] = 1;
+      const std::int32_t a = Find(parent, static_cast<std::int32_t>(u)), b = Find(parent, v);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  for (std::size_t v = 0; v < V; ++v) {
+    st.components += Find(parent, static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v);
+    st.isolated += !has_edge[v];
+  }
+  st.seconds_edges = stage.Seconds();
+  if (st.excluded_nonfinite > 0)
+    out.warnings.push_back(std::to_string(st.excluded_nonfinite) +
+                           " Gaussians with non-finite parameters or features were excluded from the graph");
+  if (st.zero_norm_features > 0)
+    out.warnings.push_back(std::to_string(st.zero_norm_features) +
+                           " candidate nodes have zero-norm features and get no semantic edges");
+  st.seconds_total = total.Seconds();
+  return out;
+}
+
+nlohmann::json GraphStatsToJson(const GraphStats& s) {
+  return {{"num_gaussians", s.num_gaussians},
+          {"excluded_nonfinite", s.excluded_nonfinite},
+          {"removed_nodes", s.removed_nodes},
+          {"nodes", s.nodes},
+          {"added_per_hop", s.added_per_hop},
+          {"huge_spheres", s.huge_spheres},
+          {"edges_knn", s.edges_knn},
+          {"edges", s.edges},
+          {"components", s.components},
+          {"isolated", s.isolated},
+          {"zero_norm_features", s.zero_norm_features},
+          {"knn_tie_retries", s.knn_tie_retries},
+          {"feature_dim", s.feature_dim},
+          {"gate_distance", s.gate_distance},
+          {"sigma_f", s.gate_distance},
+          {"sigma_x", s.sigma_x},
+          {"sigma_x_source", s.sigma_x_source},
+          {"seconds", {{"candidates", s.seconds_candidates},
+                       {"knn", s.seconds_knn},
+                       {"edges", s.seconds_edges},
+                       {"total", s.seconds_total}}}};
+}
+
+}  // namespace al
