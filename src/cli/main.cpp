@@ -58,13 +58,14 @@ int main(int argc, char** argv) {
 
   std::vector<std::string> args = WithDefaultSubcommand(argc, argv, names);
   std::reverse(args.begin(), args.end());  // CLI11 parses a reversed vector
+  const bool no_arguments = args.empty();    // parse() consumes args, so remember this first
   try {
     app.parse(args);
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);
     return code == 0 ? 0 : static_cast<int>(al::ExitCode::kUsage);
   }
-  if (args.empty()) {
+  if (no_arguments) {
     std::cout << app.help();
     return static_cast<int>(al::ExitCode::kUsage);
   }
