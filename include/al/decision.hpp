@@ -1,0 +1,45 @@
+// The removal decision (SPEC §5, CUT_PURSUIT.md §13): refined = R ∪ { v ∈ C : p_v ≥ τ }, τ fixed
+// (default 0.5) or the nearest-rank percentile of p over the nodes of C (ties go to removal).
+// With restore, nodes of R with p_v < τ return to the scene.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/graph/problem.hpp"
+
+namespace al {
+
+struct DecisionRule {
+  enum class Kind { kFixed, kPercentile };
+  Kind kind = Kind::kFixed;
+  double threshold = 0.5;  // kFixed: τ
+  int percentile = 95;     // kPercentile: P in [0, 100]
+  std::string ToString() const;  // "0.5" or "percentile:95"
+};
+
+// "0.5" or "percentile:95"; throws al::Error (usage) otherwise.
+DecisionRule ParseDecisionRule(const std::string& text);
+
+struct DecisionOptions {
+  DecisionRule rule;
+  bool restore = false;  // let nodes of R with p_v < τ return
+};
+
+struct DecisionResult {
+  std::vector<bool> refined;      // N
+  double threshold = 0.0;         // τ actually applied (NaN when C is empty under a percentile)
+  std::size_t added = 0;          // nodes outside R now removed
+  std::size_t restored = 0;       // nodes of R returned (restore only)
+  std::size_t at_threshold = 0;   // nodes with p_v == τ exactly
+  std::size_t selected = 0;       // nodes with p_v ≥ τ
+  nlohmann::json ToJson() const;
+};
+
+// removed: N (R); p: one per node of problem (node_ids map nodes to scene indices).
+// Throws al::Error on size mismatches.
+DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProblem& problem,
+                             const std::vector<double>& p, const DecisionOptions& options = {});
+
+}  // namespace al
