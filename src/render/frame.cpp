@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "src/render/frame.hpp"
 
@@ -47,6 +48,7 @@ void BuildFrame(Frame& frame) {
   RadixSort(keys);
 
   frame.splats.resize(keys.size());
+  frame.rects.resize(keys.size());
   const int gx = frame.view.grid_x, gy = frame.view.grid_y;
   const std::size_t tiles = static_cast<std::size_t>(gx) * gy;
   std::vector<std::uint32_t> count(tiles + 1, 0);
@@ -68,17 +70,48 @@ void BuildFrame(Frame& frame) {
     const double floor = std::log(1.0 / (255.0 * static_cast<double>(s.opacity))) - 1e-3;
     s.power_floor = static_cast<float>(floor);
     s.id = static_cast<std::int32_t>(i);
-    for (int ty = p.ymin[i]; ty < p.ymax[i]; ++ty)
-      for (int tx = p.xmin[i]; tx < p.xmax[i]; ++tx) ++count[static_cast<std::size_t>(ty) * gx + tx];
+    // power = -q/2 with q = d^T [A B; B C] d, so power >= floor inside the ellipse q <= -2 floor,
+    // whose half-extents are sqrt(k C / det), sqrt(k A / det). Relative and absolute margins
+    // cover float rounding of power; a non-positive-definite conic keeps the full rectangle.
+    TileRect& rect = frame.rects[r];
+    rect = {p.xmin[i], p.ymin[i], p.xmax[i], p.ymax[i]};
+    const double k = std::max(0.0, -2.0 * static_cast<double>(s.power_floor));
+    const double det = double(s.a) * s.c - double(s.b) * s.b;
+    if (det > 0 && std::isfinite(det) && s.a > 0 && s.c > 0) {
+      const double ex = std::sqrt(k * s.c / det) * 1.001 + 0.05, ey = std::sqrt(k * s.a / det) * 1.001 + 0.05;
+      s.ext_x = static_cast<float>(std::min(ex, 1e30));
+      s.ext_y = static_cast<float>(std::min(ey, 1e30));
+      auto tile_lo = [](double c) { return c <= 0 ? 0.0 : std::floor(c / kTile); };
+      const double tx0 = tile_lo(std::ceil(s.u - ex)), tx1 = tile_lo(std::floor(s.u + ex)) + 1;
+      const double ty0 = tile_lo(std::ceil(s.v - ey)), ty1 = tile_lo(std::floor(s.v + ey)) + 1;
+      if (s.u + ex < 0 || s.v + ey < 0) {
+        rect.x1 = rect.x0;  // entirely left of / above the image
+      } else {
+        // Intersect in double, then narrow (all values end inside [0, grid]).
+        const double nx0 = std::max<double>(rect.x0, tx0), ny0 = std::max<double>(rect.y0, ty0);
+        const double nx1 = std::min<double>(rect.x1, tx1), ny1 = std::min<double>(rect.y1, ty1);
+        if (nx1 <= nx0 || ny1 <= ny0) {
+          rect.x1 = rect.x0;
+        } else {
+          rect = {static_cast<std::int32_t>(nx0), static_cast<std::int32_t>(ny0), static_cast<std::int32_t>(nx1),
+                  static_cast<std::int32_t>(ny1)};
+        }
+      }
+    } else {
+      s.ext_x = s.ext_y = std::numeric_limits<float>::infinity();
+    }
+    if (rect.x1 <= rect.x0 || rect.y1 <= rect.y0) rect = {0, 0, 0, 0};
+    for (int ty = rect.y0; ty < rect.y1; ++ty)
+      for (int tx = rect.x0; tx < rect.x1; ++tx) ++count[static_cast<std::size_t>(ty) * gx + tx];
   }
   frame.tile_offsets.assign(tiles + 1, 0);
   for (std::size_t t = 0; t < tiles; ++t) frame.tile_offsets[t + 1] = frame.tile_offsets[t] + count[t];
   frame.tile_ranks.resize(frame.tile_offsets[tiles]);
   std::vector<std::uint32_t> cursor(frame.tile_offsets.begin(), frame.tile_offsets.end() - 1);
   for (std::size_t r = 0; r < keys.size(); ++r) {
-    const std::uint32_t i = frame.splats[r].id;
-    for (int ty = p.ymin[i]; ty < p.ymax[i]; ++ty)
-      for (int tx = p.xmin[i]; tx < p.xmax[i]; ++tx)
+    const TileRect& rect = frame.rects[r];
+    for (int ty = rect.y0; ty < rect.y1; ++ty)
+      for (int tx = rect.x0; tx < rect.x1; ++tx)
         frame.tile_ranks[cursor[static_cast<std::size_t>(ty) * gx + tx]++] = static_cast<std::uint32_t>(r);
   }
 }
@@ -122,7 +155,17 @@ void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
     const std::uint32_t rank = frame.tile_ranks[k];
     if (skip != nullptr && skip[rank]) continue;
     const Splat& s = frame.splats[rank];
-    for (int p = 0; p < n; ++p) {
+    // Pixel window of the tile the Gaussian can reach (local coordinates, inclusive).
+    int lx0 = 0, lx1 = w - 1, ly0 = 0, ly1 = h - 1;
+    if (s.ext_x < 1e29f) {
+      auto local = [](float c) { return static_cast<int>(std::clamp(c, -1.0f, float(kTile))); };
+      lx0 = std::max(lx0, local(std::ceil(s.u - s.ext_x) - x0));
+      lx1 = std::min(lx1, local(std::floor(s.u + s.ext_x) - x0));
+      ly0 = std::max(ly0, local(std::ceil(s.v - s.ext_y) - y0));
+      ly1 = std::min(ly1, local(std::floor(s.v + s.ext_y) - y0));
+    }
+    for (int ly = ly0; ly <= ly1; ++ly)
+    for (int p = ly * w + lx0; p <= ly * w + lx1; ++p) {
       if (!active[p]) continue;
       const float dx = s.u - pxf[p], dy = s.v - pyf[p];
       const float power = -0.5f * (s.a * dx * dx + s.c * dy * dy) - s.b * dx * dy;

@@ -54,13 +54,23 @@ void Preprocess(const Scene& scene, const ViewParams& view, const RenderOptions&
 struct Splat {
   float u, v, a, b, c, opacity, red, green, blue, tz;
   float power_floor;  // power below this certainly gives alpha < 1/255 (skips the exp)
+  // Half-extents (px) of the ellipse power >= power_floor, with a safety margin: pixels outside
+  // [u - ext_x, u + ext_x] x [v - ext_y, v + ext_y] can never blend this Gaussian.
+  float ext_x, ext_y;
   std::int32_t id;    // scene index
+};
+
+// Tiles a splat is listed in: its INRIA tile rectangle intersected with the tiles its effective
+// ellipse can reach (dropping only tiles where it provably changes no pixel, RASTERIZER.md §9).
+struct TileRect {
+  std::int32_t x0, y0, x1, y1;  // max exclusive
 };
 
 struct Frame {
   ViewParams view;
   Projected proj;
   std::vector<Splat> splats;                 // visible Gaussians sorted by (tz, index)
+  std::vector<TileRect> rects;               // per rank
   std::vector<std::uint32_t> tile_offsets;   // grid_x*grid_y + 1
   std::vector<std::uint32_t> tile_ranks;     // ranks into splats, front to back per tile
 };

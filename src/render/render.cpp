@@ -102,8 +102,9 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
       if (!removed[i]) continue;
       skip[r] = 1;
       ++removed_visible;
-      for (int ty = p.ymin[i]; ty < p.ymax[i]; ++ty)
-        for (int tx = p.xmin[i]; tx < p.xmax[i]; ++tx) dirty[static_cast<std::size_t>(ty) * gx + tx] = 1;
+      const TileRect& rect = frame.rects[r];
+      for (int ty = rect.y0; ty < rect.y1; ++ty)
+        for (int tx = rect.x0; tx < rect.x1; ++tx) dirty[static_cast<std::size_t>(ty) * gx + tx] = 1;
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (!removed[i]) continue;
