@@ -4,6 +4,8 @@
 #include "al/core/error.hpp"
 #include "al/solver.hpp"
 #include "bk/bk_solver.hpp"
+#include "cut_pursuit/cut_pursuit_solver.hpp"
+#include "exact/exact_solver.hpp"
 
 namespace al {
 namespace {
@@ -13,6 +15,8 @@ using Factory = std::unique_ptr<Solver> (*)(const nlohmann::json& options);
 const std::vector<std::pair<std::string, Factory>>& Table() {
   static const std::vector<std::pair<std::string, Factory>> table = {
       {"bk", &MakeBkSolver},
+      {"cp", &MakeCutPursuitSolver},
+      {"exact", &MakeExactSolver},
       // {"bk", &MakeBkSolver}, {"cp", &MakeCutPursuitSolver}, {"exact", &MakeExactSolver}
   };
   return table;

@@ -1,0 +1,72 @@
+// Cut pursuit for the simplex-constrained d1 problem (CUT_PURSUIT.md, "Cp_d1_lsx" re-implemented from
+// the spec), D labels in general:
+//   F(x) = sum_v w_v l_s(y_v, x_v) + sum_e w_e sum_d m_d |x_ud - x_vd| + sum_v i_simplex(x_v).
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace al::cp {
+
+// Graph in forward-star form, every undirected edge stored once.
+struct SimplexProblem {
+  std::int32_t D = 2;
+  std::vector<std::int64_t> first_edge;    // V + 1
+  std::vector<std::int32_t> adj_vertices;  // E
+  std::vector<double> edge_weights;        // E
+  std::vector<double> y;                   // V x D, rows on the simplex
+  std::vector<double> node_weights;        // V (empty = all 1)
+  std::vector<double> metric;              // D (empty = all 1)
+  double loss = 0.1;                       // s: 0 linear, 1 quadratic, else smoothed KL
+
+  std::int64_t num_nodes() const { return static_cast<std::int64_t>(first_edge.size()) - 1; }
+};
+
+// Defaults = the upstream Python wrapper's (CUT_PURSUIT.md §2).
+struct CutPursuitOptions {
+  double cp_dif_tol = 1e-3;     // outer stop on mean l1 change; merge tolerance
+  int cp_it_max = 10;           // maximum outer iterations
+  int K = 2;                    // candidate directions per component (only 2 is implemented)
+  int split_iter_num = 1;       // partition/update rounds per split
+  double split_damp_ratio = 1;  // edge-capacity damping of the first round
+  int split_values_init_num = 2;  // k-means++ restarts
+  int split_values_iter_num = 2;  // Lloyd iterations per restart
+  double pfdr_rho = 1.0;        // relaxation
+  double pfdr_cond_min = 1e-2;  // preconditioner floor ratio
+  double pfdr_dif_rcd = 0.0;    // reconditioning threshold (0 = never)
+  double pfdr_dif_tol = -1.0;   // PFDR stop; < 0 means 1e-2 * cp_dif_tol
+  int pfdr_it_max = 10000;      // PFDR maximum iterations
+  int num_threads = 0;          // 0 = OpenMP default; results never depend on it
+  bool emulate_upstream_projection_bug = false;  // reproduce pcp's polluted directions (§4.2)
+};
+
+struct CutPursuitResult {
+  std::vector<std::int32_t> comp_assign;  // V
+  std::vector<double> rX;                 // rV x D
+  std::int32_t num_components = 0;
+  std::vector<double> objective_history;  // Obj[0..it]
+  std::vector<double> dif_history;        // Dif[1..it]
+  std::vector<int> pfdr_iterations;       // per outer iteration
+  int iterations = 0;
+  bool converged = false;
+  double objective = 0.0;
+  std::vector<std::string> warnings;      // e.g. non-monotone objective steps
+
+  double Value(std::int64_t v, int d, int D) const { return rX[comp_assign[v] * D + d]; }
+};
+
+// Throws al::Error on an inconsistent problem (sizes, negative weights, non-finite data).
+CutPursuitResult RunCutPursuit(const SimplexProblem& problem, const CutPursuitOptions& options);
+
+// F(x) of the piecewise-constant solution, summed in a fixed order.
+double SimplexObjective(const SimplexProblem& problem, const std::vector<std::int32_t>& comp_assign,
+                        const std::vector<double>& rX);
+
+// Projection of a raw direction r onto the unit tangent cone of the simplex at X (§4.2).
+// Writes z (unit l2 norm, or all zero when no feasible descent exists).
+void ProjectDirection(const double* X, const double* r, int D, double eps, bool emulate_bug, double* z);
+
+// Projection of X onto the simplex in the metric diag(gamma)^-1 (PFDR step 4).
+void ProjectSimplexMetric(double* x, const double* gamma, int D);
+
+}  // namespace al::cp

@@ -1,0 +1,41 @@
+// The "exact" solver (CUT_PURSUIT.md §11): the exact relaxed optimum for two labels by level-set
+// minimum cuts. For every group U of vertices known to lie in [lo, hi] it cuts at a pivot t: the
+// upper side lies in [t, hi], the lower in [lo, t] (monotone level sets). Two pivot rules:
+//  - "plateau" (default): t = the best constant value of U given its boundary; if the cut at t
+//    does not split U (min cut energy >= 0) U is an optimal plateau at t, exact up to rounding;
+//  - "bisection": t = (lo + hi) / 2 until hi - lo <= epsilon (the spec's reference procedure).
+#pragma once
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/solver.hpp"
+
+namespace al {
+
+struct ExactOptions {
+  double epsilon = 1e-10;          // interval width at which a group is final
+  std::string pivot = "plateau";   // "plateau" or "bisection"
+};
+
+struct ExactStats {
+  long long max_flows = 0;
+  long long plateaus = 0;
+  int max_depth = 0;
+};
+
+// Options from JSON (keys epsilon, pivot); unknown keys -> al::Error(kUsage).
+ExactOptions ParseExactOptions(const nlohmann::json& options);
+
+// p minimising F for the two-label problem (s == 0 linear, s == 1 quadratic, else smoothed KL).
+std::vector<double> SolveExactTwoLabel(const RefineProblem& problem, const ExactOptions& options,
+                                       ExactStats* stats = nullptr);
+
+// F(p) with the loss of CUT_PURSUIT.md §1.1 (equals al::Objective for 0 < s < 1), fixed-order sums.
+double TwoLabelObjective(const RefineProblem& problem, const std::vector<double>& p);
+
+std::unique_ptr<Solver> MakeExactSolver(const nlohmann::json& options);
+
+}  // namespace al
