@@ -95,7 +95,7 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
   std::vector<std::uint8_t> skip(frame.splats.size(), 0);
   std::vector<std::uint8_t> dirty(tiles, 0);
   const Projected& p = frame.proj;
-  std::size_t removed_visible = 0, removed_nonfinite = 0, removed_degenerate = 0;
+  std::size_t removed_entries = 0, removed_visible = 0, removed_nonfinite = 0, removed_degenerate = 0;
   if (!removed.empty()) {
     for (std::size_t r = 0; r < frame.splats.size(); ++r) {
       const std::int32_t i = frame.splats[r].id;
@@ -103,6 +103,7 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
       skip[r] = 1;
       ++removed_visible;
       const TileRect& rect = frame.rects[r];
+      removed_entries += static_cast<std::size_t>(rect.x1 - rect.x0) * (rect.y1 - rect.y0);
       for (int ty = rect.y0; ty < rect.y1; ++ty)
         for (int tx = rect.x0; tx < rect.x1; ++tx) dirty[static_cast<std::size_t>(ty) * gx + tx] = 1;
     }
@@ -125,9 +126,7 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
   out.excluded_degenerate = before.excluded_degenerate - removed_degenerate;
   out.tiles_rendered = work.size();
   out.tiles_copied = tiles - work.size();
-  std::size_t entries = 0;
-  for (std::size_t k = 0; k < frame.tile_ranks.size(); ++k) entries += skip[frame.tile_ranks[k]] == 0;
-  out.tile_entries = entries;
+  out.tile_entries = before.tile_entries - removed_entries;
   return out;
 }
 
