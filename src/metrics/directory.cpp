@@ -203,6 +203,8 @@ void RunSimSam(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
       ++missing_b;
       continue;
     }
+    // Parse both lists first: a malformed file is bad input even when the image is then skipped.
+    const std::vector<Mask> segments_a = a.Load(stem), segments_b = b.Load(stem);
     const fs::path object_path = objects / (stem + ".png");
     if (!IsFile(object_path)) {
       ++missing_object;
@@ -216,7 +218,7 @@ void RunSimSam(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
       r.warnings.push_back(std::string("sim_sam: skipped image: ") + e.what());
       continue;
     }
-    r.sam.push_back({stem, ComputeSimSam(object, a.Load(stem), b.Load(stem), o.sim_sam)});
+    r.sam.push_back({stem, ComputeSimSam(object, segments_a, segments_b, o.sim_sam)});
   }
   r.ran_sam = true;
   r.sam_summary = SummarizeSimSam(r.sam, missing_b, missing_object);
