@@ -6,6 +6,8 @@
 #include <cmath>
 #include <random>
 
+#include <Eigen/Geometry>
+
 #include "al/render/render.hpp"
 
 namespace {
