@@ -99,10 +99,10 @@ std::string NameOf(const json& e, const char* key, const std::string& path, cons
   throw FileError(path, where + ": '" + key + "' is not a string");
 }
 
-CameraLoadResult ReadJsonCameras(const std::string& path) {
+CameraLoadResult ParseJsonCameras(const std::string& text, const std::string& path) {
   json doc;
   try {
-    doc = json::parse(ReadText(path));
+    doc = json::parse(text);
   } catch (const json::exception& e) {
     throw FileError(path, std::string("invalid JSON: ") + e.what());
   }
@@ -184,8 +184,8 @@ struct Intrinsics {
   double fx = 0, fy = 0, cx = 0, cy = 0;
 };
 
-std::unordered_map<std::string, Intrinsics> ReadColmapCameras(const std::string& path) {
-  std::istringstream in(ReadText(path));
+std::unordered_map<std::string, Intrinsics> ParseColmapCameras(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
   std::unordered_map<std::string, Intrinsics> cams;
   std::string line;
   std::size_t lineno = 0;
@@ -220,9 +220,10 @@ std::unordered_map<std::string, Intrinsics> ReadColmapCameras(const std::string&
   return cams;
 }
 
-CameraLoadResult ReadColmap(const std::string& cameras_txt, const std::string& images_txt) {
-  const auto intr = ReadColmapCameras(cameras_txt);
-  std::istringstream in(ReadText(images_txt));
+CameraLoadResult ParseColmap(const std::string& cameras_text, const std::string& images_text,
+                             const std::string& cameras_txt, const std::string& images_txt) {
+  const auto intr = ParseColmapCameras(cameras_text, cameras_txt);
+  std::istringstream in(images_text);
   CameraLoadResult res;
   res.format = "colmap";
   std::string line;
@@ -270,6 +271,10 @@ CameraLoadResult ReadColmap(const std::string& cameras_txt, const std::string& i
   return res;
 }
 
+CameraLoadResult ReadColmap(const std::string& cameras_txt, const std::string& images_txt) {
+  return ParseColmap(ReadText(cameras_txt), ReadText(images_txt), cameras_txt, images_txt);
+}
+
 json Rows(const Eigen::MatrixXd& m) {
   json rows = json::array();
   for (int r = 0; r < m.rows(); ++r) {
@@ -300,12 +305,21 @@ CameraLoadResult ReadCameras(const std::string& path) {
       throw FileError(path, "COLMAP text model needs both cameras.txt and images.txt beside each other");
     res = ReadColmap(cams.string(), imgs.string());
   } else {
-    res = ReadJsonCameras(path);
+    res = ParseJsonCameras(ReadText(path), path);
   }
   std::set<std::string> seen;
   for (const Camera& c : res.cameras)
     if (!seen.insert(c.name).second) res.warnings.push_back("camera name '" + c.name + "' occurs more than once");
   return res;
+}
+
+CameraLoadResult ParseCamerasJson(const std::string& text, const std::string& name) {
+  return ParseJsonCameras(text, name);
+}
+
+CameraLoadResult ParseColmapText(const std::string& cameras_text, const std::string& images_text,
+                                 const std::string& cameras_name, const std::string& images_name) {
+  return ParseColmap(cameras_text, images_text, cameras_name, images_name);
 }
 
 void WriteCameraList(const std::string& path, const std::vector<Camera>& cameras) {

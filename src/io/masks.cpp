@@ -82,9 +82,18 @@ RemovalSet LoadNpy(const std::string& path, const Scene& scene, const RemovalLoa
 }
 
 RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open");
-  const std::size_t n = scene.size();
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw FileError(path, "cannot open");
+  std::ostringstream text;
+  text << file.rdbuf();
+  if (file.bad()) throw FileError(path, "read error");
+  return RemovalSetFromIndexText(text.str(), path, scene.size());
+}
+
+}  // namespace
+
+RemovalSet RemovalSetFromIndexText(const std::string& text, const std::string& path, std::size_t n) {
+  std::istringstream in(text);
   std::vector<std::int64_t> idx;
   std::vector<std::size_t> line_of;
   std::string line;
@@ -108,7 +117,6 @@ RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
     idx.push_back(v);
     line_of.push_back(lineno);
   }
-  if (in.bad()) throw FileError(path, "read error");
   RemovalSet r;
   r.removed.assign(n, false);
   std::size_t dup = 0;
@@ -116,8 +124,11 @@ RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
   r.stats = BaseStats("txt", idx.size());
   r.stats["duplicates"] = dup;
   if (dup) r.warnings.push_back(path + ": " + std::to_string(dup) + " duplicate indices ignored");
+  r.num_removed = static_cast<std::size_t>(std::count(r.removed.begin(), r.removed.end(), true));
   return r;
 }
+
+namespace {
 
 RemovalSet LoadSubsetPly(const std::string& path, const Scene& scene, const RemovalLoadOptions& opt) {
   PlyReadOptions po;

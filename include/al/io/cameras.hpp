@@ -18,13 +18,34 @@ struct CameraLoadResult {
 // cameras.txt + images.txt, or either of those two files. Throws al::Error naming the file.
 CameraLoadResult ReadCameras(const std::string& path);
 
+// In-memory parsers behind ReadCameras (for fuzzing and embedding); `*_name` prefixes errors.
+// ReadCameras additionally warns about duplicate names.
+CameraLoadResult ParseCamerasJson(const std::string& text, const std::string& name);
+CameraLoadResult ParseColmapText(const std::string& cameras_text, const std::string& images_text,
+                                 const std::string& cameras_name = "cameras.txt",
+                                 const std::string& images_name = "images.txt");
+
+// Formats:
+// * INRIA cameras.json: [{img_name, width, height, fx, fy, position, rotation}], rotation = camera-
+//   to-world rows, position = centre: R = rotationᵀ, t = −rotationᵀ·position, cx = W/2, cy = H/2.
+// * COLMAP text: cameras.txt PINHOLE (fx fy cx cy) / SIMPLE_PINHOLE (f cx cy) (other models: error,
+//   undistort first); images.txt two lines per image, quaternion w-first world->camera; name = the
+//   file stem of NAME. COLMAP's cx, cy use the same pixel-centre convention as Camera.
+// * Plain list: [{name, W2C: 4 rows of 4 (world->camera, last row 0 0 0 1), fx, fy, cx, cy, width,
+//   height}]; cx, cy in the "pixel centres at j + 0.5" convention (cx = W/2 is centred); optional,
+//   default centred. A JSON object {"cameras": [...]} is accepted too.
+// Validation (error naming the entry): positive integer size, positive finite focal, finite values,
+// proper rotation (|RᵀR − I| <= 1e-3, det > 0). Warnings: principal point more than 0.5 px off the
+// centre (INRIA-exact rendering ignores it), duplicate names.
+
 // Writes the plain JSON list {name, W2C (4x4 rows), fx, fy, cx, cy, width, height} atomically.
 void WriteCameraList(const std::string& path, const std::vector<Camera>& cameras);
 
 // Writes INRIA cameras.json (rotation = camera-to-world, position = centre) atomically.
 void WriteInriaCameras(const std::string& path, const std::vector<Camera>& cameras);
 
-// Selects views by comma-separated names or "all"; throws al::Error for unknown names.
+// Selects views by comma-separated names (in the given order, repeats dropped) or "all" / empty;
+// throws al::Error listing a few known names for an unknown name.
 std::vector<Camera> SelectViews(const std::vector<Camera>& cameras, const std::string& views);
 
 }  // namespace al

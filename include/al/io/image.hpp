@@ -22,6 +22,9 @@ void WritePng16(const std::string& path, const Image16& image);
 
 // Reads any PNG (1-16 bit, grey/RGB/palette/alpha). Values are returned at their native depth
 // in `values` (0..2^depth-1), channels as stored after palette expansion; `bit_depth` tells 8 or 16.
+// Sub-8-bit grey is scaled to 8 bits (1-bit 1 -> 255, 4-bit v -> 17v); palette images become RGB,
+// or RGBA when they carry a tRNS chunk; a tRNS chunk of grey/RGB images is ignored.
+// Corrupt or truncated files throw al::Error naming the file.
 struct PngData {
   int width = 0, height = 0, channels = 0, bit_depth = 8;
   std::vector<std::uint16_t> values;  // height * width * channels
