@@ -17,7 +17,7 @@ namespace al::metrics {
 namespace {
 
 using json = nlohmann::json;
-constexpr std::int64_t kMaxPixels = std::int64_t(1) << 28;  // refuse absurd sizes from hostile JSON
+constexpr std::int64_t kMaxPixels = std::int64_t(1) << 26;  // 67 Mpixel: refuse absurd sizes from hostile JSON
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
