@@ -10,6 +10,7 @@
 #include "al/io/npy.hpp"
 #include "al/io/ply.hpp"
 #include "al/render/render.hpp"
+#include "render/expect_identical.hpp"
 #include "test_data.hpp"
 
 namespace al {
@@ -127,13 +128,7 @@ TEST(RefParity, IncrementalAfterOnRealScene) {
   IncrementalRenderer inc(scene, cam);
   const RenderOutput after = inc.After(removed);
   const RenderOutput full = Render(scene, cam, {}, removed);
-  EXPECT_EQ(after.rgb, full.rgb);
-  EXPECT_EQ(after.alpha, full.alpha);
-  EXPECT_EQ(after.depth, full.depth);
-  EXPECT_EQ(after.invdepth, full.invdepth);
-  EXPECT_EQ(after.front_id, full.front_id);
-  EXPECT_EQ(after.radii, full.radii);
-  EXPECT_EQ(after.visible_gaussians, full.visible_gaussians);
+  test::ExpectIdenticalRenders(after, full);
   EXPECT_EQ(after.tiles_rendered + after.tiles_copied, after.tiles_total);
 }
 

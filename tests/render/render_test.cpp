@@ -9,6 +9,7 @@
 
 #include "al/core/error.hpp"
 #include "al/render/render.hpp"
+#include "render/expect_identical.hpp"
 
 namespace al {
 namespace {
@@ -71,16 +72,7 @@ Camera OffsetCamera() {
   return c;
 }
 
-void ExpectIdentical(const RenderOutput& a, const RenderOutput& b) {
-  EXPECT_EQ(a.rgb, b.rgb);
-  EXPECT_EQ(a.alpha, b.alpha);
-  EXPECT_EQ(a.depth, b.depth);
-  EXPECT_EQ(a.invdepth, b.invdepth);
-  EXPECT_EQ(a.front_id, b.front_id);
-  EXPECT_EQ(a.radii, b.radii);
-  EXPECT_EQ(a.visible_gaussians, b.visible_gaussians);
-  EXPECT_EQ(a.excluded_nonfinite, b.excluded_nonfinite);
-}
+using test::ExpectIdenticalRenders;
 
 void ExpectAllFinite(const RenderOutput& o) {
   for (float v : o.rgb) ASSERT_TRUE(std::isfinite(v));
@@ -185,7 +177,7 @@ TEST(RenderInvariants, FastPathEqualsReference) {
     opt.background.setConstant(bg);
     const RenderOutput fast = Render(s, cam, opt);
     const RenderOutput ref = ReferenceRender(s, cam, opt);
-    ExpectIdentical(fast, ref);
+    ExpectIdenticalRenders(fast, ref);
     EXPECT_GT(fast.visible_gaussians, 300u);
     EXPECT_LT(fast.visible_gaussians, 600u);  // some behind / off-screen
   }
@@ -195,10 +187,10 @@ TEST(RenderInvariants, RemovingNothingIsFullRender) {
   const Scene s = RandomScene(400, 2);
   const Camera cam = OffsetCamera();
   const RenderOutput full = Render(s, cam);
-  ExpectIdentical(full, Render(s, cam, {}, std::vector<bool>(s.size(), false)));
+  ExpectIdenticalRenders(full, Render(s, cam, {}, std::vector<bool>(s.size(), false)));
   IncrementalRenderer inc(s, cam);
   const RenderOutput after = inc.After(std::vector<bool>(s.size(), false));
-  ExpectIdentical(full, after);
+  ExpectIdenticalRenders(full, after);
   EXPECT_EQ(after.tiles_rendered, 0u);
   EXPECT_EQ(after.tiles_copied, after.tiles_total);
 }
@@ -209,7 +201,7 @@ TEST(RenderInvariants, IncrementalAfterEqualsFullRender) {
   std::vector<bool> base(s.size(), false);
   for (std::size_t i = 0; i < s.size(); i += 17) base[i] = true;
   IncrementalRenderer inc(s, cam, {}, base);
-  ExpectIdentical(inc.before(), Render(s, cam, {}, base));
+  ExpectIdenticalRenders(inc.before(), Render(s, cam, {}, base));
   // A compact removed object: Gaussians near one point.
   std::vector<bool> removed(s.size(), false), both = base;
   std::size_t count = 0;
@@ -222,7 +214,7 @@ TEST(RenderInvariants, IncrementalAfterEqualsFullRender) {
   ASSERT_GT(count, 5u);
   const RenderOutput after = inc.After(removed);
   const RenderOutput full = Render(s, cam, {}, both);
-  ExpectIdentical(after, full);
+  ExpectIdenticalRenders(after, full);
   EXPECT_GT(after.tiles_rendered, 0u);
   EXPECT_GT(after.tiles_copied, 0u);
   EXPECT_EQ(after.tiles_rendered + after.tiles_copied, after.tiles_total);
@@ -240,10 +232,10 @@ TEST(RenderInvariants, ThreadCountDoesNotChangeResults) {
   RenderOptions one, two;
   one.num_threads = 1;
   two.num_threads = 2;
-  ExpectIdentical(Render(s, cam, one), Render(s, cam, two));
+  ExpectIdenticalRenders(Render(s, cam, one), Render(s, cam, two));
   std::vector<bool> removed(s.size(), false);
   for (std::size_t i = 0; i < s.size(); i += 5) removed[i] = true;
-  ExpectIdentical(IncrementalRenderer(s, cam, one).After(removed), IncrementalRenderer(s, cam, two).After(removed));
+  ExpectIdenticalRenders(IncrementalRenderer(s, cam, one).After(removed), IncrementalRenderer(s, cam, two).After(removed));
 }
 
 TEST(RenderInvariants, ExcludedGaussiansHaveZeroRadius) {
@@ -279,7 +271,7 @@ TEST(RenderStress, DegenerateParameters) {
   ExpectAllFinite(out);
   EXPECT_EQ(out.excluded_nonfinite, 5u);
   for (int i = 7; i <= 11; ++i) EXPECT_EQ(out.radii[i], 0);
-  ExpectIdentical(out, ReferenceRender(s, cam));
+  ExpectIdenticalRenders(out, ReferenceRender(s, cam));
 }
 
 TEST(RenderStress, AllBehindCamera) {
