@@ -246,7 +246,9 @@ TEST(RenderInvariants, ExcludedGaussiansHaveZeroRadius) {
   const RenderOutput out = Render(s, cam, {}, ex);
   for (std::size_t i = 0; i < s.size(); i += 2) EXPECT_EQ(out.radii[i], 0);
   for (std::int32_t id : out.front_id)
-    if (id >= 0) EXPECT_FALSE(ex[id]);
+    if (id >= 0) {
+      EXPECT_FALSE(ex[id]);
+    }
   EXPECT_THROW(Render(s, cam, {}, std::vector<bool>(5, false)), Error);
 }
 
