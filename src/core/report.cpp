@@ -1,6 +1,7 @@
 #include "al/core/report.hpp"
 
 #include <openssl/evp.h>
+#include <sys/resource.h>
 
 #include <array>
 #include <fstream>
@@ -55,9 +56,18 @@ void AddInputFile(nlohmann::json& report, const std::string& role, const std::fi
   report["inputs"][role] = entry;
 }
 
+double PeakRssMiB() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0.0;
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;  // Linux reports KiB
+}
+
 void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report, const std::string& file_name) {
   EnsureDirectory(dir);
-  WriteFileAtomically(dir / file_name, report.dump(2) + "\n");
+  // Memory is part of every claim about scale (3M-Gaussian runs must stay < 3x the scene size).
+  nlohmann::json stamped = report;
+  stamped["peak_rss_mib"] = PeakRssMiB();
+  WriteFileAtomically(dir / file_name, stamped.dump(2) + "\n");
 }
 
 }  // namespace al

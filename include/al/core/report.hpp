@@ -22,4 +22,8 @@ void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report,
 // Hex SHA-256 of a file's bytes.
 std::string Sha256File(const std::filesystem::path& path);
 
+// Peak resident set size of this process so far, in MiB (0 if the OS does not say).
+// WriteReport stamps it into every report as "peak_rss_mib".
+double PeakRssMiB();
+
 }  // namespace al
