@@ -50,6 +50,9 @@ class RefineCommand : public Command {
     app.add_option("--positive", o_.positives, "FGS: positive prompt rows")->delimiter(',');
     app.add_option("--fgs-threshold", o_.fgs_threshold, "FGS deletion threshold")->default_val(0.4);
     app.add_option("--out", o_.out_dir, "Output directory")->required();
+    app.add_option("--export-problem", o_.export_problem_dir,
+                   "Also write the solvers' exact problem and p as .npy files into this directory "
+                   "(first_edge, adj_vertices, edge_weights, y, node_weights, node_ids, params.json, p)");
     app.add_flag("--quiet", quiet_, "No progress lines");
   }
 

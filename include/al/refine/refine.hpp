@@ -36,6 +36,7 @@ struct RefineOptions {
   std::vector<int> positives;
   double fgs_threshold = 0.4;
   std::string out_dir;                // required
+  std::string export_problem_dir;     // non-empty: write the solvers' problem + p as .npy (problem_io.hpp)
   // Called after each stage with its name and duration (the CLI prints the slow ones).
   std::function<void(const std::string& stage, double seconds)> on_stage;
 };

@@ -1,0 +1,77 @@
+// The refine pipeline as reusable stages: load once, build a graph per (k, δ, hops, ...), solve it
+// with any number of solvers and decision rules, score against ground truth. RunRefine
+// (al/refine/refine.hpp) is these stages in a row; `compare`, `sweep` and `refine --auto` reuse a
+// loaded input and a built graph instead of repeating the work a parameter doesn't change.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/decision.hpp"
+#include "al/graph/graph.hpp"
+#include "al/io/masks.hpp"
+#include "al/refine/refine.hpp"
+#include "al/scene/scene.hpp"
+#include "al/solver.hpp"
+
+namespace al {
+
+// Ground truth of a synthetic scene: the object id per Gaussian and the target object.
+struct GroundTruth {
+  std::vector<std::int32_t> labels;   // N
+  int target = -1;
+  std::vector<float> opacity_logits;  // N (empty: count-only scores)
+};
+
+// Everything the graph and the solvers need, loaded once.
+struct RefineInputs {
+  Scene scene;
+  RowMatXf features;                  // N×D (colour features when colour_fallback)
+  bool colour_fallback = false;       // features are RGB, compared by raw Euclidean distance
+  std::string feature_spec;           // what was asked: "semantic_", "auto", FILE.npy, "colour", ...
+  std::string feature_source;         // what was used, for the report
+  RemovedIs removed_is = RemovedIs::kRemoved;
+  RemovalSet removal;
+  nlohmann::json preset;              // the method preset's values (report params.preset)
+  nlohmann::json fgs_mask;            // null unless the FGS mask was derived from prompts
+  std::optional<GroundTruth> ground_truth;
+};
+
+// Validates the options and loads scene, features, removed set and labels. Records input files,
+// warnings and per-stage seconds into report (a NewReport object). Throws al::Error before any
+// output is written.
+RefineInputs LoadRefineInputs(const RefineOptions& options, nlohmann::json& report);
+
+// The graph for these inputs under options (feature normalisation follows the feature kind).
+GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options);
+
+// "cp" when registered, else "bk", for an empty name; the name otherwise.
+std::string ResolveSolverName(const std::string& name);
+
+struct SolveOutcome {
+  bool empty_graph = false;
+  std::string message;                // one human-readable summary
+  std::vector<bool> refined;          // N (the input mask for an empty graph)
+  std::vector<double> p;              // per graph node (empty for an empty graph)
+  std::size_t added = 0, restored = 0;
+  nlohmann::json solver = nlohmann::json::object();    // name, objective, iterations, seconds, ...
+  nlohmann::json decision = nlohmann::json::object();  // rule, threshold, counts
+  std::vector<std::string> warnings;
+};
+
+// Solves the graph's problem and applies the decision rule. An edgeless graph is not an error: the
+// outcome is empty_graph with an actionable message (naming the graph options that produced it)
+// and refined = the input removed set.
+SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
+                            const GraphOptions& graph_options, Solver& solver,
+                            const DecisionOptions& decision);
+
+// {"object_id", "before": {...}, "after": {...}} with precision/recall/F1/IoU by count and
+// opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...).
+nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
+                                       const std::vector<bool>& after);
+
+}  // namespace al

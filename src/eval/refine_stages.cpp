@@ -1,0 +1,256 @@
+// The refine stages (al/refine/stages.hpp): load, graph, solve + decide, ground-truth scores.
+#include "al/refine/stages.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <fstream>
+
+#include "al/core/error.hpp"
+#include "al/core/report.hpp"
+#include "al/core/timer.hpp"
+#include "al/fixtures/synth.hpp"
+#include "al/io/npy.hpp"
+#include "al/io/ply.hpp"
+#include "al/refine/fgs_mask.hpp"
+
+namespace al {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool EndsWith(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() &&
+         std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
+                    [](char a, char b) { return std::tolower(a) == std::tolower(b); });
+}
+
+// What a --method preset sets (SPEC §3 table); reported under params.preset.
+struct Preset {
+  std::string features;  // "semantic_", "obj_dc_", "auto" or "colour"
+  RemovedIs removed_is = RemovedIs::kRemoved;
+  bool gc_polarity = false;
+};
+
+Preset PresetFor(const std::string& method) {
+  if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false};
+  if (method == "gg") return {"obj_dc_", RemovedIs::kRemaining, false};
+  if (method == "sags") return {"colour", RemovedIs::kRemoved, false};
+  if (method == "gc") return {"colour", RemovedIs::kRemoved, true};
+  if (method == "generic") return {"auto", RemovedIs::kRemoved, false};
+  throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
+}
+
+int TargetFromLabels(const std::string& labels, const std::optional<int>& object_id) {
+  if (object_id) return *object_id;
+  const fs::path target = fs::path(labels).parent_path() / "target.json";
+  std::ifstream in(target);
+  if (!in)
+    throw Error(labels + ": no --object-id and no target.json beside the labels", ExitCode::kUsage);
+  nlohmann::json j;
+  try {
+    in >> j;
+    return j.at("object_id").get<int>();
+  } catch (const std::exception&) {
+    throw Error(target.string() + ": expected {\"object_id\": k}", ExitCode::kBadInput);
+  }
+}
+
+// Fills inputs.features / feature_source / colour_fallback from the feature spec.
+void LoadFeatures(const RefineOptions& o, RefineInputs& in, nlohmann::json& report) {
+  nlohmann::json& warnings = report["warnings"];
+  const std::string& feat = in.feature_spec;
+  const std::size_t N = in.scene.size();
+  if (feat == "colour") {
+    in.colour_fallback = true;
+  } else if (EndsWith(feat, ".npy")) {
+    in.features = ReadMatrixNpy(feat);
+    in.feature_source = feat;
+    AddInputFile(report, "features", feat);
+  } else if (EndsWith(feat, ".ply")) {
+    PlyReadOptions fo;
+    fo.require_scales = false;
+    Scene fs_scene = ReadScene(feat, fo);
+    if (fs_scene.features.cols() == 0) throw Error(feat + ": no feature columns found", ExitCode::kBadInput);
+    in.features = std::move(fs_scene.features);
+    in.feature_source = feat + " (" + fs_scene.feature_prefix + "*)";
+    AddInputFile(report, "features", feat);
+  } else if (in.scene.features.cols() > 0) {
+    in.features = std::move(in.scene.features);
+    in.scene.features.resize(0, 0);
+    in.feature_source = in.scene.feature_prefix + "*";
+  } else {
+    in.colour_fallback = true;
+    warnings.push_back("no feature columns found (features '" + feat + "'): using the colour fallback");
+  }
+  if (!in.colour_fallback && in.features.rows() != static_cast<Eigen::Index>(N))
+    throw Error(in.feature_source + ": " + std::to_string(in.features.rows()) + " feature rows for " +
+                std::to_string(N) + " Gaussians", ExitCode::kBadInput);
+  if (!o.decoder.empty()) {
+    if (in.colour_fallback) throw Error("--decoder needs semantic features", ExitCode::kUsage);
+    const auto comma = o.decoder.find(',');
+    if (comma == std::string::npos) throw Error("--decoder: expected W.npy,b.npy", ExitCode::kUsage);
+    in.features = ApplyDecoder(in.features, o.decoder.substr(0, comma), o.decoder.substr(comma + 1));
+    in.feature_source += " decoded by " + o.decoder;
+  }
+  if (in.colour_fallback) {
+    in.features = ColourFeatures(in.scene);
+    in.feature_source = "colour (RGB = 0.5 + C0*f_dc, raw Euclidean distance)";
+  }
+}
+
+GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann::json& report) {
+  const std::size_t N = scene.size();
+  const NpyArray la = ReadNpy(o.labels);
+  if (!la.is_integer() || la.size() != N)
+    throw Error(o.labels + ": expected an integer array with " + std::to_string(N) + " entries",
+                ExitCode::kBadInput);
+  AddInputFile(report, "labels", o.labels);
+  GroundTruth truth;
+  const std::vector<std::int64_t> l64 = la.ToInt64();
+  truth.labels.assign(l64.begin(), l64.end());
+  truth.target = TargetFromLabels(o.labels, o.object_id);
+  if (scene.opacity_logits.size() == static_cast<Eigen::Index>(N))
+    truth.opacity_logits.assign(scene.opacity_logits.data(), scene.opacity_logits.data() + N);
+  return truth;
+}
+
+nlohmann::json ScoresToJson(const fixtures::RemovalScores& s) {
+  return {{"precision", s.precision}, {"recall", s.recall}, {"f1", s.f1}, {"iou", s.iou},
+          {"precision_w", s.precision_w}, {"recall_w", s.recall_w}, {"f1_w", s.f1_w},
+          {"iou_w", s.iou_w}, {"removed", s.removed}, {"target", s.target}};
+}
+
+}  // namespace
+
+std::string ResolveSolverName(const std::string& name) {
+  if (!name.empty()) return name;
+  const auto names = SolverNames();
+  return std::find(names.begin(), names.end(), "cp") != names.end() ? "cp" : "bk";
+}
+
+RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
+  if (o.scene.empty()) throw Error("--scene is required", ExitCode::kUsage);
+  const Preset preset = PresetFor(o.method);
+  const bool derive_fgs = o.removed.empty() && !o.prompt_embeddings.empty();
+  if (o.removed.empty() && !derive_fgs)
+    throw Error("--removed is required (or, with --method fgs, --prompt-embeddings and --positive)",
+                ExitCode::kUsage);
+  if (derive_fgs && o.method != "fgs") throw Error("--prompt-embeddings needs --method fgs", ExitCode::kUsage);
+
+  nlohmann::json& timings = report["timings_s"];
+  nlohmann::json& warnings = report["warnings"];
+  Timer t;
+  auto stage_done = [&](const std::string& name) {
+    const double s = t.Seconds();
+    timings[name] = s;
+    if (o.on_stage) o.on_stage(name, s);
+    t.Reset();
+  };
+
+  RefineInputs in;
+  in.preset = {{"features", preset.features},
+               {"removed_is", preset.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+               {"gc_polarity", preset.gc_polarity}};
+  in.feature_spec = o.features.empty() ? preset.features : o.features;
+  const bool feat_file = EndsWith(in.feature_spec, ".npy") || EndsWith(in.feature_spec, ".ply");
+  PlyReadOptions ro;
+  ro.feature_prefix = (in.feature_spec == "colour" || feat_file) ? "none" : in.feature_spec;
+  in.scene = ReadScene(o.scene, ro);
+  AddInputFile(report, "scene", o.scene);
+  LoadFeatures(o, in, report);
+  stage_done("load_scene");
+
+  in.removed_is = o.removed_is.value_or(preset.removed_is);
+  if (derive_fgs) {
+    const RowMatXf prompts = ReadMatrixNpy(o.prompt_embeddings);
+    AddInputFile(report, "prompt_embeddings", o.prompt_embeddings);
+    if (in.colour_fallback) throw Error("--prompt-embeddings needs semantic features", ExitCode::kUsage);
+    FgsMaskOptions fo;
+    fo.positives = o.positives;
+    fo.threshold = o.fgs_threshold;
+    const FgsMaskResult m = FgsDerivedMask(in.features, prompts, fo);
+    in.removal.removed = m.removed;
+    in.removal.num_removed = m.num_removed;
+    in.fgs_mask = {{"removed", m.num_removed}, {"by_argmax", m.by_argmax},
+                   {"by_threshold_only", m.by_threshold_only}, {"near_threshold", m.near_threshold},
+                   {"zero_norm", m.zero_norm}, {"threshold", o.fgs_threshold}, {"positives", o.positives}};
+    if (m.near_threshold > 0)
+      warnings.push_back(std::to_string(m.near_threshold) +
+                         " Gaussians lie within 1e-3 of the FGS threshold (upstream float16 may flip them)");
+  } else {
+    RemovalLoadOptions lo;
+    lo.removed_is = in.removed_is;
+    lo.max_unmatched = o.max_unmatched;
+    lo.match_tolerance = o.match_tol;
+    lo.gc_polarity = preset.gc_polarity;
+    in.removal = LoadRemovalSet(o.removed, in.scene, lo);
+    AddInputFile(report, "removed", o.removed);
+    for (const auto& w : in.removal.warnings) warnings.push_back(w);
+  }
+  stage_done("load_removed");
+
+  if (!o.labels.empty()) {
+    in.ground_truth = LoadGroundTruth(o, in.scene, report);
+    stage_done("load_labels");
+  }
+  return in;
+}
+
+GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
+  GraphOptions go = options;
+  go.normalize_features = !inputs.colour_fallback;
+  return BuildRefineGraph(inputs.scene, inputs.features, inputs.removal.removed, go);
+}
+
+SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
+                            const GraphOptions& go, Solver& solver, const DecisionOptions& decision) {
+  SolveOutcome out;
+  const GraphStats& gs = graph.stats;
+  const std::size_t num_removed = inputs.removal.num_removed;
+  if (gs.edges == 0) {
+    out.empty_graph = true;
+    out.refined = inputs.removal.removed;
+    out.message =
+        "empty graph: no edge survived the semantic gate (removed " + std::to_string(num_removed) +
+        ", candidates " + std::to_string(gs.nodes) + ", kNN edges " + std::to_string(gs.edges_knn) +
+        ", k = " + std::to_string(go.k) + ", delta = " + nlohmann::json(go.delta).dump() +
+        (go.delta_mode == DeltaMode::kCosine ? " (cosine)" : "") + ", zero-norm features " +
+        std::to_string(gs.zero_norm_features) + "). " +
+        (num_removed == 0 ? "The removed set is empty: check --removed / --removed-is. "
+                          : "Try a larger --delta (e.g. 1.0 or 1.2), a larger --k, --hops 2 or "
+                            "--radius-scale 2; check that --features match the scene. ") +
+        "The output mask equals the input mask.";
+    out.warnings.push_back(out.message);
+    out.solver = {{"name", solver.name()}, {"skipped", true}};
+    out.decision = {{"rule", decision.rule.ToString()}, {"skipped", true}};
+    return out;
+  }
+  SolverResult sr = solver.Solve(graph.problem);
+  out.warnings = sr.warnings;
+  out.solver = {{"name", sr.solver}, {"objective", sr.objective}, {"iterations", sr.iterations},
+                {"converged", sr.converged}, {"seconds", sr.seconds}, {"stats", sr.stats}};
+  const DecisionResult d = ApplyDecision(inputs.removal.removed, graph.problem, sr.p, decision);
+  out.refined = d.refined;
+  out.added = d.added;
+  out.restored = d.restored;
+  out.p = std::move(sr.p);
+  out.decision = d.ToJson();
+  out.decision["rule"] = decision.rule.ToString();
+  out.decision["restore"] = decision.restore;
+  out.message = "refined: " + std::to_string(d.added) + " Gaussians added" +
+                (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") + " (rule " +
+                decision.rule.ToString() + ", threshold " + nlohmann::json(d.threshold).dump() + ")";
+  return out;
+}
+
+nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
+                                       const std::vector<bool>& after) {
+  return {{"object_id", truth.target},
+          {"before", ScoresToJson(fixtures::ScoreRemoval(before, truth.labels, truth.target,
+                                                         truth.opacity_logits))},
+          {"after", ScoresToJson(fixtures::ScoreRemoval(after, truth.labels, truth.target,
+                                                        truth.opacity_logits))}};
+}
+
+}  // namespace al
