@@ -1,0 +1,131 @@
+// The evaluator (SPEC §6): renders every view before removal, after the removal and after each
+// refinement with the project's rasterizer (the "after" renders incrementally from the "before"
+// cache), computes every metric of METRICS.md whose inputs exist, and writes report.json,
+// metrics.csv, table.md / table.tex and per-view images. `al-refine eval` and `al-refine demo`
+// are thin wrappers around RunEval.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/io/camera.hpp"
+#include "al/metrics/depth.hpp"
+#include "al/metrics/semantic.hpp"
+#include "al/metrics/sim_sam.hpp"
+#include "al/render/render.hpp"
+#include "al/scene/scene.hpp"
+
+namespace al::eval {
+
+// One evaluated removal ("column" of the paper's tables): the removal method's own set, or a
+// refinement of it.
+struct EvalColumn {
+  std::string name;             // file-name part and CSV prefix: "after", "refined", "bk", ...
+  std::string label;            // table header, e.g. "fgs" or "fgs+cp"
+  std::vector<bool> removed;    // N, true = removed
+  // Optional segmentations of this column's renders (empty = none): GroundedSAM-style detector
+  // masks (X.png or GroundedSAM X.json) and SAM segment lists (X.json or merged.json).
+  std::string seg_dir, sam_dir;
+};
+
+// Where the per-view object mask comes from: a folder of PNGs joined by view name (> 0 = object),
+// or ground-truth labels rendered per view (share Σ α·T of the object's Gaussians >= 0.5 in the
+// full "before" composite, the rule `synth` uses for masks/<view>.png).
+struct ObjectSource {
+  std::string masks_dir;
+  std::vector<std::int32_t> labels;  // N ids (used when masks_dir is empty)
+  int object_id = 0;
+};
+
+struct EvalOptions {
+  std::string out_dir;                 // required
+  std::string row_name = "scene";      // table row ("Scene-Object")
+  RenderOptions render;                // background, SH degree, threads
+  metrics::GhtOptions ght;             // published GHT parameters by default
+  metrics::FloatDepthOptions float_depth;  // float mode (METRICS.md §5); alpha_hit also used for 8-bit depth
+  metrics::SemanticOptions semantic;
+  metrics::SimSamOptions sim_sam;
+  std::string seg_before_dir, sam_before_dir;  // segmentations of the "before" renders
+  std::string seg_class;               // GroundedSAM JSON class (empty = every instance)
+  bool export_renders = false;         // renders/<column>/<view>.png for external segmenters
+  bool write_images = true;            // images/<view>_*.png (tests may turn it off)
+  bool write_depth_pngs = true;        // depth/<column>/{before,after}/<view>.png (8-bit pairs, METRICS.md §6)
+  bool progress = true;                // progress bar on stderr
+};
+
+// Per view and column.
+struct ColumnViewMetrics {
+  metrics::DepthScore depth8, depth_float;
+  double threshold8 = 0, threshold_float = 0;
+  bool constant8 = false;
+  std::optional<double> collateral_psnr;  // empty when identical outside the object
+  bool identical = false;
+  std::optional<metrics::SemanticRecord> semantic;
+  std::optional<metrics::SimSamResult> sim_sam;
+  std::size_t tiles_rendered = 0;
+};
+
+struct ViewRecord {
+  std::string name;
+  int width = 0, height = 0;
+  std::size_t object_pixels = 0;
+  bool evaluated = false;        // false: empty (or missing) object mask, excluded from the means
+  bool object_mask_missing = false;
+  std::vector<ColumnViewMetrics> columns;  // one per EvalSpec column when evaluated
+};
+
+struct ColumnSummary {
+  metrics::DepthSummary depth8, depth_float;
+  metrics::MeanStd collateral_psnr;
+  std::size_t identical = 0;
+  std::optional<metrics::SemanticSummary> semantic;
+  std::optional<metrics::MeanStd> sim_sam;
+  std::size_t sim_sam_dropped = 0, sim_sam_missing = 0;
+  std::size_t num_removed = 0;
+};
+
+struct SkippedMetric {
+  std::string metric, column, reason;
+};
+
+struct EvalResult {
+  std::vector<ViewRecord> views;
+  std::vector<ColumnSummary> summaries;  // one per column
+  std::vector<SkippedMetric> skipped;
+  std::vector<std::string> warnings;
+  std::size_t evaluated = 0, skipped_empty_object = 0, missing_object_masks = 0;
+  double seconds_object_masks = 0, seconds_render = 0, seconds_metrics = 0, seconds_io = 0, seconds_total = 0;
+  nlohmann::json report;                 // exactly what was written to report.json
+  std::vector<std::string> outputs;      // files written, relative to out_dir
+};
+
+// Runs the evaluation of `columns` (at least one; by convention the removal method's set first,
+// then its refinements) on `cameras`. Validates every input first (al::Error, nothing written);
+// outputs are staged and moved into out_dir only when the whole run succeeded. `report` (may be
+// null) is the caller's report skeleton (params, inputs): RunEval adds counts, metrics, timings.
+EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
+                   const ObjectSource& object, const EvalOptions& options, const nlohmann::json* report = nullptr);
+
+// ---- Tables in the paper's layout (rows Scene-Object; column groups IoU_drop↑, acc_Δdepth↑,
+// sim_SAM↓, one column per method; per row and group the best value bold, the second underlined).
+struct TableRow {
+  std::string name;
+  std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
+};
+struct Table {
+  std::vector<std::string> methods;
+  std::vector<TableRow> rows;
+};
+Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result);
+// Ranks of the values of one group: 1 = best (ties share it), 2 = second best, 0 otherwise/missing.
+std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bool higher_is_better);
+std::string TableMarkdown(const Table& table);
+std::string TableLatex(const Table& table);
+
+// metrics.csv: one row per view, columns per method (prefix = column name).
+std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult& result);
+
+}  // namespace al::eval

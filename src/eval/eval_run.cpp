@@ -1,0 +1,527 @@
+// RunEval (al/eval/eval.hpp): per view, object mask → "before" render → incremental renders of
+// each column → metrics → pictures; then summaries, report.json, metrics.csv and the tables.
+#include <omp.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <memory>
+#include <sstream>
+
+#include "al/core/atomic_file.hpp"
+#include "al/core/error.hpp"
+#include "al/core/progress.hpp"
+#include "al/core/report.hpp"
+#include "al/core/timer.hpp"
+#include "al/eval/eval.hpp"
+#include "al/eval/images.hpp"
+#include "al/fixtures/synth.hpp"
+#include "al/io/image.hpp"
+#include "al/metrics/collateral.hpp"
+#include "al/metrics/mask_io.hpp"
+
+namespace al::eval {
+namespace {
+
+namespace fs = std::filesystem;
+using json = nlohmann::json;
+
+bool IsDir(const std::string& p) {
+  std::error_code ec;
+  return !p.empty() && fs::is_directory(p, ec);
+}
+bool IsFile(const fs::path& p) {
+  std::error_code ec;
+  return fs::is_regular_file(p, ec);
+}
+
+// File-name-safe view name (camera names may hold path separators).
+std::string SafeName(std::string name) {
+  for (char& ch : name)
+    if (ch == '/' || ch == '\\' || ch == ':') ch = '_';
+  return name.empty() ? "view" : name;
+}
+
+// Detector mask of a view: <dir>/X.png, else GroundedSAM <dir>/X.json (METRICS.md §1);
+// false when absent (a missing detection is an empty mask, METRICS.md §2).
+bool LoadDetectorMask(const std::string& dir, const std::string& stem, const std::string& seg_class,
+                      metrics::Gray8& out) {
+  const fs::path png = fs::path(dir) / (stem + ".png"), js = fs::path(dir) / (stem + ".json");
+  if (IsFile(png)) {
+    out = metrics::LoadGray8Png(png.string());
+    return true;
+  }
+  if (IsFile(js)) {
+    out = metrics::LoadGroundedSamJson(js.string(), seg_class).mask;
+    return true;
+  }
+  return false;
+}
+
+// SAM segment lists of one folder: <dir>/X.json per view, or the legacy merged.json
+// {image_name: [segments]} (parsed once, on first use).
+class SamLists {
+ public:
+  explicit SamLists(std::string dir) : dir_(std::move(dir)) {}
+  // false when the folder holds no list for the view.
+  bool Load(const std::string& stem, std::vector<metrics::Mask>& out) {
+    const fs::path file = fs::path(dir_) / (stem + ".json");
+    if (IsFile(file)) {
+      auto lists = metrics::LoadSamJson(file.string());
+      if (lists.count("")) out = std::move(lists[""]);
+      else if (lists.count(stem)) out = std::move(lists[stem]);
+      else throw FileError(file.string(), "holds no segment list for " + stem);
+      return true;
+    }
+    if (!merged_loaded_) {
+      merged_loaded_ = true;
+      const fs::path merged = fs::path(dir_) / "merged.json";
+      if (IsFile(merged)) merged_ = metrics::LoadSamJson(merged.string());
+    }
+    const auto it = merged_.find(stem);
+    if (it == merged_.end()) return false;
+    out = it->second;
+    return true;
+  }
+
+ private:
+  std::string dir_;
+  bool merged_loaded_ = false;
+  std::map<std::string, std::vector<metrics::Mask>> merged_;
+};
+
+metrics::DepthRender ToDepthRender(const RenderOutput& r) { return {r.width, r.height, r.depth, r.alpha}; }
+metrics::RgbImage ToRgbImage(const RenderOutput& r) { return {r.width, r.height, r.rgb}; }
+
+json MeanStdJson(const metrics::MeanStd& m) { return {{"mean", m.mean}, {"std", m.std}, {"count", m.count}}; }
+
+json DepthSummaryJson(const metrics::DepthSummary& s, const std::string& mode) {
+  return {{"mode", mode},
+          {"n_images", s.images},
+          {"mean_acc_delta_depth", s.acc_delta_depth.mean},
+          {"std_acc_delta_depth", s.acc_delta_depth.std},
+          {"mean_iou", s.iou.mean},
+          {"std_iou", s.iou.std},
+          {"collateral_depth", MeanStdJson(s.collateral_depth)},
+          {"constant_masks", s.constant_masks}};
+}
+
+json SemanticSummaryJson(const metrics::SemanticSummary& s) {
+  json seg = json::object(), table = json::object();
+  auto key = [](double t) {
+    std::ostringstream o;
+    o << t;
+    return o.str();
+  };
+  for (const auto& t : s.acc_seg) seg[key(t.threshold)] = t.value;
+  for (const auto& t : s.acc_iou_post_above) table[key(t.threshold)] = t.value;
+  return {{"n_images", s.images},          {"mean_iou_before", s.iou_before}, {"mean_iou_after", s.iou_after},
+          {"mean_iou_drop", s.iou_drop},    {"mean_acc_before", s.acc_before}, {"mean_acc_after", s.acc_after},
+          {"mean_acc_diff", s.acc_diff},    {"acc_seg", seg},                  {"acc_iou_post_above_percent", table},
+          {"missing_before", s.missing_before}, {"missing_after", s.missing_after}};
+}
+
+// Outputs are written under a staging folder beside out_dir and moved in only when the whole run
+// succeeded, so a failure (e.g. a corrupt mask in view 37) leaves no partial evaluation behind.
+class Staging {
+ public:
+  explicit Staging(const fs::path& out) : out_(out) {
+    const fs::path abs = fs::absolute(out).lexically_normal();
+    const fs::path parent = abs.has_filename() ? abs.parent_path() : abs.parent_path().parent_path();
+    const std::string name = abs.has_filename() ? abs.filename().string() : abs.parent_path().filename().string();
+    EnsureDirectory(parent);
+    dir_ = parent / ("." + name + ".eval-tmp-" + std::to_string(::getpid()));
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+    EnsureDirectory(dir_);
+  }
+  ~Staging() {
+    std::error_code ec;
+    if (!committed_) fs::remove_all(dir_, ec);
+  }
+  const fs::path& dir() const { return dir_; }
+  // Moves every top-level entry into out (replacing same-named entries), then drops the staging.
+  void Commit() {
+    EnsureDirectory(out_);
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      const fs::path target = out_ / entry.path().filename();
+      if (fs::exists(target, ec)) fs::remove_all(target, ec);
+      fs::rename(entry.path(), target, ec);
+      if (ec) throw FileError(target.string(), "cannot move evaluation output into place: " + ec.message());
+    }
+    fs::remove_all(dir_, ec);
+    committed_ = true;
+  }
+
+ private:
+  fs::path out_, dir_;
+  bool committed_ = false;
+};
+
+// Writes the PNGs on all threads; the first error (by job order) is rethrown after the loop
+// (exceptions must not leave an OpenMP region).
+void WritePngsParallel(const std::vector<std::pair<fs::path, Image8>>& jobs, int num_threads) {
+  std::vector<std::string> errors(jobs.size());
+  const int threads = num_threads > 0 ? num_threads : omp_get_max_threads();
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(jobs.size()); ++i) {
+    try {
+      WritePng8(jobs[std::size_t(i)].first.string(), jobs[std::size_t(i)].second);
+    } catch (const std::exception& e) {
+      errors[std::size_t(i)] = e.what();
+    }
+  }
+  for (const auto& e : errors)
+    if (!e.empty()) throw Error(e);
+}
+
+void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
+              const ObjectSource& object, const EvalOptions& o) {
+  const std::size_t n = scene.size();
+  if (o.out_dir.empty()) throw Error("eval: --out is required", ExitCode::kUsage);
+  if (cameras.empty()) throw Error("eval: no views to evaluate", ExitCode::kBadInput);
+  if (columns.empty()) throw Error("eval: nothing to evaluate (no removal given)", ExitCode::kUsage);
+  std::map<std::string, int> names;
+  for (const auto& c : columns) {
+    if (c.removed.size() != n)
+      throw Error("eval: removal '" + c.label + "' has " + std::to_string(c.removed.size()) +
+                  " entries, the scene " + std::to_string(n));
+    if (c.name.empty() || c.name == "before" || names[c.name]++)
+      throw Error("eval: column name '" + c.name + "' is empty, 'before' or repeated", ExitCode::kUsage);
+    for (const std::string* d : {&c.seg_dir, &c.sam_dir})
+      if (!d->empty() && !IsDir(*d)) throw FileError(*d, "not a directory");
+  }
+  for (const std::string* d : {&o.seg_before_dir, &o.sam_before_dir})
+    if (!d->empty() && !IsDir(*d)) throw FileError(*d, "not a directory");
+  if (!object.masks_dir.empty()) {
+    if (!IsDir(object.masks_dir)) throw FileError(object.masks_dir, "object mask folder is not a directory");
+  } else {
+    if (object.labels.size() != n)
+      throw Error("eval: labels have " + std::to_string(object.labels.size()) + " entries, the scene " +
+                  std::to_string(n) + " (give --object-masks or matching --labels)");
+    if (std::find(object.labels.begin(), object.labels.end(), object.object_id) == object.labels.end())
+      throw Error("eval: no Gaussian has object id " + std::to_string(object.object_id) + " in the labels");
+  }
+  if (!(o.ght.nu >= 0) || !(o.ght.tau >= 0)) throw Error("eval: GHT nu and tau must be >= 0", ExitCode::kUsage);
+}
+
+}  // namespace
+
+EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
+                   const ObjectSource& object, const EvalOptions& o, const json* report_in) {
+  Timer total;
+  Validate(scene, cameras, columns, object, o);
+  const std::size_t n = scene.size(), nc = columns.size();
+  EvalResult r;
+
+  // Which optional metrics can run, and why not (SPEC §6: the report says what was skipped).
+  std::vector<bool> run_semantic(nc), run_sam(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    const std::string& col = columns[c].name;
+    run_semantic[c] = !o.seg_before_dir.empty() && !columns[c].seg_dir.empty();
+    run_sam[c] = !o.sam_before_dir.empty() && !columns[c].sam_dir.empty();
+    if (!run_semantic[c])
+      r.skipped.push_back({"iou_drop", col,
+                           o.seg_before_dir.empty()
+                               ? "no --seg-before: GroundedSAM masks of the before renders (write the renders with "
+                                 "--export-renders, segment them, pass the mask folders back)"
+                               : "no detector masks of this column's renders (--seg-after / --seg-refined)"});
+    if (!run_sam[c])
+      r.skipped.push_back({"sim_sam", col,
+                           o.sam_before_dir.empty()
+                               ? "no --sam-before: SAM segment lists of the before renders (see --export-renders)"
+                               : "no SAM segment lists of this column's renders (--sam-after / --sam-refined)"});
+  }
+
+  Staging staging(o.out_dir);
+  const fs::path out = staging.dir();
+  const fs::path images = out / "images";
+  if (o.write_images) EnsureDirectory(images);
+  if (o.export_renders) {
+    EnsureDirectory(out / "renders" / "before");
+    for (const auto& c : columns) EnsureDirectory(out / "renders" / c.name);
+  }
+  if (o.write_depth_pngs) {
+    EnsureDirectory(out / "masks");
+    for (const auto& c : columns) {
+      EnsureDirectory(out / "depth" / c.name / "before");
+      EnsureDirectory(out / "depth" / c.name / "after");
+    }
+  }
+  // Gaussians each refinement added to the removal method's set (column 0), for the pink overlay.
+  std::vector<std::vector<bool>> added(nc);
+  for (std::size_t c = 1; c < nc; ++c) {
+    added[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
+  }
+  std::vector<bool> subset;
+  if (object.masks_dir.empty()) {
+    subset.resize(n);
+    for (std::size_t i = 0; i < n; ++i) subset[i] = object.labels[i] == object.object_id;
+  }
+  std::unique_ptr<SamLists> sam_before;
+  std::vector<std::unique_ptr<SamLists>> sam_cols(nc);
+  if (!o.sam_before_dir.empty()) sam_before = std::make_unique<SamLists>(o.sam_before_dir);
+  for (std::size_t c = 0; c < nc; ++c)
+    if (run_sam[c]) sam_cols[c] = std::make_unique<SamLists>(columns[c].sam_dir);
+  std::vector<std::size_t> sam_missing(nc, 0), seg_missing_files(nc, 0);
+  std::size_t png_writes = 0;
+
+  Progress progress("eval", cameras.size(), o.progress);
+  for (std::size_t vi = 0; vi < cameras.size(); ++vi) {
+    const Camera& cam = cameras[vi];
+    ViewRecord view;
+    view.name = cam.name;
+    view.width = cam.width;
+    view.height = cam.height;
+    const std::string stem = SafeName(cam.name);
+
+    // 1. Object mask (> 0) and its 8-bit grey form (semantic/sim_SAM binarise it themselves).
+    Timer t;
+    metrics::Gray8 object_gray;
+    if (!object.masks_dir.empty()) {
+      const fs::path path = fs::path(object.masks_dir) / (cam.name + ".png");
+      if (!IsFile(path)) {
+        view.object_mask_missing = true;
+        ++r.missing_object_masks;
+      } else {
+        object_gray = metrics::LoadGray8Png(path.string());
+      }
+      r.seconds_io += t.Seconds();
+    } else {
+      const std::vector<float> share = fixtures::SubsetWeight(scene, cam, subset, o.render.num_threads);
+      object_gray = {cam.width, cam.height, std::vector<std::uint8_t>(share.size())};
+      for (std::size_t p = 0; p < share.size(); ++p) object_gray.pixels[p] = share[p] >= 0.5f ? 255 : 0;
+      r.seconds_object_masks += t.Seconds();
+    }
+    const metrics::Mask object_mask = metrics::Binarize(object_gray, 0);
+    view.object_pixels = object_mask.Count();
+    if (view.object_pixels == 0) {  // SPEC §6: views without the object are excluded and counted
+      if (!view.object_mask_missing) ++r.skipped_empty_object;
+      r.views.push_back(std::move(view));
+      progress.Step(vi + 1);
+      continue;
+    }
+    view.evaluated = true;
+    ++r.evaluated;
+
+    // 2. Renders: "before" in full, each column incrementally from its cache.
+    t.Reset();
+    IncrementalRenderer renderer(scene, cam, o.render);
+    const RenderOutput& before = renderer.before();
+    std::vector<RenderOutput> after(nc);
+    for (std::size_t c = 0; c < nc; ++c) after[c] = renderer.After(columns[c].removed);
+    r.seconds_render += t.Seconds();
+
+    // 3. Metrics.
+    t.Reset();
+    const metrics::DepthRender depth_before = ToDepthRender(before);
+    const metrics::RgbImage rgb_before = ToRgbImage(before);
+    metrics::Gray8 seg_pre;
+    bool has_seg_pre = false;
+    if (!o.seg_before_dir.empty()) has_seg_pre = LoadDetectorMask(o.seg_before_dir, cam.name, o.seg_class, seg_pre);
+    std::vector<metrics::Mask> sam_a;
+    const bool has_sam_a = sam_before && sam_before->Load(cam.name, sam_a);
+    std::vector<metrics::Depth8Pair> pairs(nc);
+    std::vector<metrics::Mask> changed(nc);
+    for (std::size_t c = 0; c < nc; ++c) {
+      ColumnViewMetrics m;
+      m.tiles_rendered = after[c].tiles_rendered;
+      const metrics::DepthRender depth_after = ToDepthRender(after[c]);
+      pairs[c] = metrics::DepthTo8Bit(depth_before, depth_after, o.float_depth.alpha_hit);
+      const metrics::DepthChange ch8 = metrics::DepthChange8Bit(pairs[c].before, pairs[c].after, o.ght);
+      m.depth8 = metrics::ScoreDepthChange(&object_mask, ch8.changed);
+      m.threshold8 = ch8.threshold;
+      m.constant8 = ch8.constant;
+      changed[c] = ch8.changed;
+      metrics::FloatDepthOptions fo = o.float_depth;
+      fo.ght = o.ght;
+      const metrics::DepthChange chf = metrics::DepthChangeFloat(depth_before, depth_after, fo);
+      m.depth_float = metrics::ScoreDepthChange(&object_mask, chf.changed);
+      m.threshold_float = chf.threshold;
+      const metrics::CollateralPsnr psnr = metrics::ComputeCollateralPsnr(rgb_before, ToRgbImage(after[c]), &object_mask);
+      m.collateral_psnr = psnr.psnr;
+      m.identical = psnr.identical;
+      if (run_semantic[c]) {
+        metrics::Gray8 post;
+        const bool has_post = LoadDetectorMask(columns[c].seg_dir, cam.name, o.seg_class, post);
+        m.semantic = metrics::ComputeSemantic(object_gray, has_seg_pre ? &seg_pre : nullptr,
+                                              has_post ? &post : nullptr, cam.name + ".png");
+      }
+      if (run_sam[c]) {
+        std::vector<metrics::Mask> sam_b;
+        const bool has_b = sam_cols[c]->Load(cam.name, sam_b);
+        if (has_sam_a && has_b) m.sim_sam = metrics::ComputeSimSam(object_gray, sam_a, sam_b, o.sim_sam);
+        else ++sam_missing[c];
+      }
+      view.columns.push_back(std::move(m));
+    }
+    r.seconds_metrics += t.Seconds();
+
+    // 4. Pictures and the 8-bit depth pairs (METRICS.md §6) for re-scoring elsewhere.
+    t.Reset();
+    // Encoded in parallel below: PNG compression dominates the I/O time.
+    std::vector<std::pair<fs::path, Image8>> jobs;
+    auto write = [&](const fs::path& path, Image8 img) { jobs.emplace_back(path, std::move(img)); };
+    if (o.write_images) {
+      write(images / (stem + "_before.png"), RenderToRgb8(before));
+      for (std::size_t c = 0; c < nc; ++c) {
+        const std::string& col = columns[c].name;
+        write(images / (stem + "_" + col + ".png"), RenderToRgb8(after[c]));
+        write(images / (stem + (c == 0 ? std::string() : "_" + col) + "_depthdiff.png"),
+              DepthDiffImage(changed[c], object_mask));
+        if (c > 0)
+          write(images / (stem + (col == "refined" ? std::string() : "_" + col) + "_added.png"),
+                AddedOverlay(after[0], added[c]));
+      }
+    }
+    if (o.export_renders) {
+      write(out / "renders" / "before" / (stem + ".png"), RenderToRgb8(before));
+      for (std::size_t c = 0; c < nc; ++c) write(out / "renders" / columns[c].name / (stem + ".png"), RenderToRgb8(after[c]));
+    }
+    if (o.write_depth_pngs) {
+      write(out / "masks" / (stem + ".png"), Image8{object_gray.width, object_gray.height, 1, object_gray.pixels});
+      for (std::size_t c = 0; c < nc; ++c) {
+        const fs::path d = out / "depth" / columns[c].name;
+        write(d / "before" / (stem + ".png"), Image8{pairs[c].before.width, pairs[c].before.height, 1, pairs[c].before.pixels});
+        write(d / "after" / (stem + ".png"), Image8{pairs[c].after.width, pairs[c].after.height, 1, pairs[c].after.pixels});
+      }
+    }
+    WritePngsParallel(jobs, o.render.num_threads);
+    png_writes += jobs.size();
+    r.seconds_io += t.Seconds();
+    r.views.push_back(std::move(view));
+    progress.Step(vi + 1);
+  }
+  progress.Finish();
+
+  // Summaries over the evaluated views.
+  Timer t;
+  r.summaries.resize(nc);
+  for (std::size_t c = 0; c < nc; ++c) {
+    ColumnSummary& s = r.summaries[c];
+    s.num_removed = std::size_t(std::count(columns[c].removed.begin(), columns[c].removed.end(), true));
+    std::vector<metrics::DepthRecord> d8, df;
+    std::vector<double> psnr, sim;
+    std::vector<metrics::SemanticRecord> sem;
+    for (const ViewRecord& v : r.views) {
+      if (!v.evaluated) continue;
+      const ColumnViewMetrics& m = v.columns[c];
+      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8});
+      df.push_back({v.name, m.depth_float, m.threshold_float, false});
+      if (m.collateral_psnr) psnr.push_back(*m.collateral_psnr);
+      s.identical += m.identical;
+      if (m.semantic) sem.push_back(*m.semantic);
+      if (m.sim_sam) {
+        if (m.sim_sam->scored) sim.push_back(m.sim_sam->sim_sam);
+        else ++s.sim_sam_dropped;
+      }
+    }
+    s.depth8 = metrics::SummarizeDepth(d8);
+    s.depth_float = metrics::SummarizeDepth(df);
+    s.collateral_psnr = metrics::ComputeMeanStd(psnr);
+    if (run_semantic[c]) s.semantic = metrics::SummarizeSemantic(sem, o.semantic);
+    if (run_sam[c]) {
+      s.sim_sam = metrics::ComputeMeanStd(sim);
+      s.sim_sam_missing = sam_missing[c];
+    }
+  }
+  if (r.evaluated == 0)
+    r.warnings.push_back("no view shows the object (all object masks empty or missing): every metric is 0");
+  if (r.missing_object_masks)
+    r.warnings.push_back(std::to_string(r.missing_object_masks) + " view(s) without an object mask in " +
+                         object.masks_dir + " were excluded");
+  r.seconds_metrics += t.Seconds();
+
+  // report.json, metrics.csv, tables.
+  t.Reset();
+  json report = report_in ? *report_in : NewReport("eval");
+  json& params = report["params"];
+  if (!params.is_object()) params = json::object();
+  params["row_name"] = o.row_name;
+  params["columns"] = json::array();
+  for (const auto& c : columns)
+    params["columns"].push_back({{"name", c.name}, {"label", c.label}, {"seg_dir", c.seg_dir}, {"sam_dir", c.sam_dir}});
+  params["seg_before"] = o.seg_before_dir;
+  params["sam_before"] = o.sam_before_dir;
+  params["seg_class"] = o.seg_class;
+  params["object_masks"] = object.masks_dir.empty() ? json("rendered from labels (share >= 0.5)") : json(object.masks_dir);
+  if (object.masks_dir.empty()) params["object_id"] = object.object_id;
+  params["background"] = {o.render.background.x(), o.render.background.y(), o.render.background.z()};
+  params["max_sh_degree"] = o.render.max_sh_degree;
+  params["ght"] = {{"nu", o.ght.nu}, {"tau", o.ght.tau}, {"kappa", o.ght.kappa}, {"omega", o.ght.omega}};
+  params["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
+  params["alpha_hit"] = o.float_depth.alpha_hit;
+  params["sam_min_iou"] = o.sim_sam.min_object_iou;
+  params["export_renders"] = o.export_renders;
+
+  report["counts"] = {{"num_gaussians", n},
+                      {"views", cameras.size()},
+                      {"evaluated", r.evaluated},
+                      {"skipped_empty_object", r.skipped_empty_object},
+                      {"missing_object_masks", r.missing_object_masks},
+                      {"png_files", png_writes}};
+  json cols = json::array();
+  for (std::size_t c = 0; c < nc; ++c) {
+    const ColumnSummary& s = r.summaries[c];
+    json j = {{"name", columns[c].name},
+              {"label", columns[c].label},
+              {"num_removed", s.num_removed},
+              {"depth", DepthSummaryJson(s.depth8, "8bit")},
+              {"depth_float", DepthSummaryJson(s.depth_float, "float")},
+              {"collateral_psnr", {{"psnr", MeanStdJson(s.collateral_psnr)}, {"identical", s.identical}}}};
+    j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
+    if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);
+    if (s.sim_sam)
+      j["sim_sam"] = {{"n_scored", s.sim_sam->count},
+                      {"mean_sim_sam", s.sim_sam->mean},
+                      {"std_sim_sam", s.sim_sam->std},
+                      {"dropped_empty_side", s.sim_sam_dropped},
+                      {"missing_lists", s.sim_sam_missing},
+                      {"direction", "SAM segments of the before render vs this column's render: lower = better "
+                                    "removal (paper)"}};
+    if (!object.labels.empty() && object.labels.size() == n)
+      j["gt"] = fixtures::ScoreRemoval(columns[c].removed, object.labels, object.object_id,
+                                       std::vector<float>(scene.opacity_logits.data(),
+                                                          scene.opacity_logits.data() + scene.opacity_logits.size()))
+                    .ToJson();
+    if (c > 0) j["added"] = std::size_t(std::count(added[c].begin(), added[c].end(), true));
+    cols.push_back(std::move(j));
+  }
+  json skipped = json::array();
+  for (const auto& s : r.skipped) skipped.push_back({{"metric", s.metric}, {"column", s.column}, {"reason", s.reason}});
+  report["metrics"] = {{"columns", cols}, {"skipped", skipped}};
+  json& warnings = report["warnings"];
+  if (!warnings.is_array()) warnings = json::array();
+  for (const auto& w : r.warnings) warnings.push_back(w);
+
+  const Table table = TableFromResult(o.row_name, columns, r);
+  WriteFileAtomically(out / "metrics.csv", MetricsCsv(columns, r));
+  WriteFileAtomically(out / "table.md", TableMarkdown(table));
+  WriteFileAtomically(out / "table.tex", TableLatex(table));
+  r.outputs = {"report.json", "metrics.csv", "table.md", "table.tex"};
+  if (o.write_images) r.outputs.push_back("images/");
+  if (o.write_depth_pngs) {
+    r.outputs.push_back("masks/");
+    r.outputs.push_back("depth/");
+  }
+  if (o.export_renders) r.outputs.push_back("renders/");
+  report["outputs"] = r.outputs;
+  r.seconds_io += t.Seconds();
+  r.seconds_total = total.Seconds();
+  json& timings = report["timings_s"];
+  if (!timings.is_object()) timings = json::object();
+  timings["object_masks"] = r.seconds_object_masks;
+  timings["render"] = r.seconds_render;
+  timings["metrics"] = r.seconds_metrics;
+  timings["io"] = r.seconds_io;
+  timings["eval_total"] = r.seconds_total;
+  WriteReport(out, report);
+  staging.Commit();
+  r.report = std::move(report);
+  return r;
+}
+
+}  // namespace al::eval

@@ -1,0 +1,200 @@
+// Tables in the paper's layout (Table 1 of the paper: rows "Scene-Object", one column group per
+// metric, one column per method, best bold / second underlined) and the per-view metrics.csv.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+
+#include "al/eval/eval.hpp"
+
+namespace al::eval {
+namespace {
+
+std::string Fixed(double v, int digits = 2) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+// Full precision for the CSV (round-trips a double).
+std::string Num(double v) {
+  if (!std::isfinite(v)) return "";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+std::string Opt(const std::optional<double>& v) { return v ? Num(*v) : ""; }
+
+// CSV field: quoted when it holds a separator, quote or newline.
+std::string CsvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string out = "\"";
+  for (char c : s) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+std::string LatexEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '_' || c == '&' || c == '%' || c == '#' || c == '$' || c == '{' || c == '}') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+std::string MarkdownEscape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    if (c == '|' || c == '*' || c == '_') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
+struct Group {
+  const char* md;
+  const char* tex;
+  bool higher_is_better;
+  std::vector<std::optional<double>> TableRow::*values;
+};
+const Group kGroups[3] = {
+    {"IoU_drop ↑", "IoU$_{\\text{drop}}\\uparrow$", true, &TableRow::iou_drop},
+    {"acc_Δdepth ↑", "acc$_{\\Delta\\text{depth}}\\uparrow$", true, &TableRow::acc_delta_depth},
+    {"sim_SAM ↓", "sim$_{\\text{SAM}}\\downarrow$", false, &TableRow::sim_sam},
+};
+
+}  // namespace
+
+std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bool higher_is_better) {
+  // Ranks are decided on the printed (2-decimal) values, so two cells that read the same get the
+  // same mark, as in the paper's tables.
+  std::set<std::string> seen;
+  std::vector<std::pair<double, std::string>> distinct;
+  for (const auto& v : values)
+    if (v && std::isfinite(*v) && seen.insert(Fixed(*v)).second) distinct.push_back({std::stod(Fixed(*v)), Fixed(*v)});
+  std::sort(distinct.begin(), distinct.end(), [&](const auto& a, const auto& b) {
+    return higher_is_better ? a.first > b.first : a.first < b.first;
+  });
+  std::vector<int> rank(values.size(), 0);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (!values[i] || !std::isfinite(*values[i])) continue;
+    const std::string key = Fixed(*values[i]);
+    if (!distinct.empty() && key == distinct[0].second) rank[i] = 1;
+    else if (distinct.size() > 1 && key == distinct[1].second) rank[i] = 2;
+  }
+  return rank;
+}
+
+Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result) {
+  Table t;
+  TableRow row;
+  row.name = row_name;
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    t.methods.push_back(columns[c].label);
+    const ColumnSummary& s = result.summaries.at(c);
+    const bool any = result.evaluated > 0;
+    row.iou_drop.push_back(s.semantic && s.semantic->images > 0 ? std::optional<double>(s.semantic->iou_drop)
+                                                                 : std::nullopt);
+    row.acc_delta_depth.push_back(any ? std::optional<double>(s.depth8.acc_delta_depth.mean) : std::nullopt);
+    row.sim_sam.push_back(s.sim_sam && s.sim_sam->count > 0 ? std::optional<double>(s.sim_sam->mean) : std::nullopt);
+  }
+  t.rows.push_back(std::move(row));
+  return t;
+}
+
+std::string TableMarkdown(const Table& t) {
+  std::ostringstream s;
+  s << "| Scene-Object |";
+  for (const Group& g : kGroups)
+    for (const auto& m : t.methods) s << ' ' << g.md << ' ' << MarkdownEscape(m) << " |";
+  s << "\n|---|";
+  for (std::size_t i = 0; i < 3 * t.methods.size(); ++i) s << "---:|";
+  s << "\n";
+  for (const TableRow& r : t.rows) {
+    s << "| " << MarkdownEscape(r.name) << " |";
+    for (const Group& g : kGroups) {
+      const auto& v = r.*g.values;
+      const std::vector<int> rank = RankValues(v, g.higher_is_better);
+      for (std::size_t i = 0; i < t.methods.size(); ++i) {
+        if (i >= v.size() || !v[i]) {
+          s << " – |";
+          continue;
+        }
+        const std::string x = Fixed(*v[i]);
+        s << ' ' << (rank[i] == 1 ? "**" + x + "**" : rank[i] == 2 ? "<u>" + x + "</u>" : x) << " |";
+      }
+    }
+    s << "\n";
+  }
+  s << "\n**best** and <u>second best</u> per row and metric; – = not computed (see report.json `skipped`).\n";
+  return s.str();
+}
+
+std::string TableLatex(const Table& t) {
+  const std::size_t m = t.methods.size();
+  std::ostringstream s;
+  s << "% Generated by al-refine eval; needs \\usepackage{booktabs}.\n";
+  s << "\\begin{tabular}{l";
+  for (int g = 0; g < 3; ++g) s << (g ? "|" : "") << std::string(m, 'c');
+  s << "}\n  \\toprule\n  Scene-Object";
+  for (const Group& g : kGroups) s << " & \\multicolumn{" << m << "}{c}{" << g.tex << "}";
+  s << " \\\\\n  \\cmidrule(lr){2-" << 1 + 3 * m << "}\n ";
+  for (int g = 0; g < 3; ++g)
+    for (const auto& name : t.methods) s << " & " << LatexEscape(name);
+  s << " \\\\\n  \\midrule\n";
+  for (const TableRow& r : t.rows) {
+    s << "  " << LatexEscape(r.name);
+    for (const Group& g : kGroups) {
+      const auto& v = r.*g.values;
+      const std::vector<int> rank = RankValues(v, g.higher_is_better);
+      for (std::size_t i = 0; i < m; ++i) {
+        if (i >= v.size() || !v[i]) {
+          s << " & --";
+          continue;
+        }
+        const std::string x = Fixed(*v[i]);
+        s << " & " << (rank[i] == 1 ? "\\textbf{" + x + "}" : rank[i] == 2 ? "\\underline{" + x + "}" : x);
+      }
+    }
+    s << " \\\\\n";
+  }
+  s << "  \\bottomrule\n\\end{tabular}\n";
+  return s.str();
+}
+
+std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult& result) {
+  static const char* kFields[] = {"acc_delta_depth", "iou_depth", "collateral_depth", "ght_threshold",
+                                  "constant_mask", "acc_delta_depth_float", "iou_depth_float",
+                                  "collateral_depth_float", "collateral_psnr", "iou_before", "iou_after",
+                                  "iou_drop", "sim_sam", "sim_sam_n_a", "sim_sam_n_b", "tiles_rendered"};
+  std::ostringstream s;
+  s << "view,evaluated,object_pixels,width,height";
+  for (const auto& c : columns)
+    for (const char* f : kFields) s << ',' << CsvField(c.name + "_" + f);
+  s << "\n";
+  for (const ViewRecord& v : result.views) {
+    s << CsvField(v.name) << ',' << (v.evaluated ? 1 : 0) << ',' << v.object_pixels << ',' << v.width << ','
+      << v.height;
+    for (std::size_t c = 0; c < columns.size(); ++c) {
+      if (!v.evaluated || c >= v.columns.size()) {
+        for (std::size_t f = 0; f < std::size(kFields); ++f) s << ',';
+        continue;
+      }
+      const ColumnViewMetrics& m = v.columns[c];
+      const bool sem = m.semantic.has_value(), sam = m.sim_sam && m.sim_sam->scored;
+      s << ',' << Num(m.depth8.acc_delta_depth) << ',' << Num(m.depth8.iou) << ',' << Num(m.depth8.collateral_depth)
+        << ',' << Num(m.threshold8) << ',' << (m.constant8 ? 1 : 0) << ',' << Num(m.depth_float.acc_delta_depth)
+        << ',' << Num(m.depth_float.iou) << ',' << Num(m.depth_float.collateral_depth) << ','
+        << Opt(m.collateral_psnr) << ',' << (sem ? Num(m.semantic->iou_before) : "") << ','
+        << (sem ? Num(m.semantic->iou_after) : "") << ',' << (sem ? Num(m.semantic->iou_drop) : "") << ','
+        << (sam ? Num(m.sim_sam->sim_sam) : "") << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_gt) : "")
+        << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_sam) : "") << ',' << m.tiles_rendered;
+    }
+    s << "\n";
+  }
+  return s.str();
+}
+
+}  // namespace al::eval
