@@ -1,0 +1,158 @@
+// Parameter sweeps (`al-refine sweep`, `al-refine merge`): a grid of refine settings over one scene
+// or a manifest of scenes, one JSON line per point in results.jsonl, results.csv and gnuplot charts.
+// The work a parameter does not change is not repeated: inputs are loaded once per scene, the graph
+// is built once per (k, δ, hops, radius_scale) and λ only rescales its edge weights (λ is a pure
+// factor of every weight, SPEC §4.6), so solver, λ and threshold settings share one graph.
+// Runs are resumable (points already in results.jsonl are skipped) and can be split into
+// deterministic shards whose outputs `merge` combines.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/refine/refine.hpp"
+
+namespace al {
+
+// The axes of a grid; an axis the grid text does not name has the single value of the base options.
+struct SweepGrid {
+  std::vector<int> k;
+  std::vector<double> delta;
+  std::vector<int> hops;
+  std::vector<double> radius_scale;
+  std::vector<double> lambda;
+  std::vector<std::string> solver;     // resolved names (al/solver.hpp)
+  std::vector<std::string> threshold;  // decision rules, canonical ("0.5", "percentile:95")
+  std::size_t size() const;
+};
+
+// "k=4,6,10;delta=0.8,1.0;lambda=0.5,1,2;solver=bk,cp" (keys k, delta, hops, radius_scale,
+// lambda, solver, threshold; values deduplicated in the given order). Throws al::Error (usage) on
+// unknown keys, repeated keys, empty or invalid values.
+SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base);
+
+// One grid point (the axes of SweepGrid).
+struct SweepPoint {
+  int k = 10;
+  double delta = 0.8;
+  int hops = 1;
+  double radius_scale = 1.0;
+  double lambda = 1.0;
+  std::string solver;
+  std::string threshold = "0.5";
+};
+
+// Every point, graph axes outermost (k, δ, hops, radius_scale), then λ, solver, threshold, so
+// points sharing a graph are consecutive.
+std::vector<SweepPoint> EnumeratePoints(const SweepGrid& grid);
+
+// True when a and b need the same graph (they differ at most in λ, solver, threshold).
+bool SameGraph(const SweepPoint& a, const SweepPoint& b);
+
+// The key results.jsonl is resumed and merged on: "scene|k=4|delta=0.8|hops=1|radius_scale=1|
+// lambda=0.5|solver=bk|threshold=0.5" (numbers in shortest round-trip form).
+std::string PointId(const std::string& scene, const SweepPoint& point);
+
+// A scene of the sweep: its refine options (method, features, removed set, labels, ...) and,
+// for evaluation, cameras and object masks.
+struct SweepScene {
+  std::string name;
+  RefineOptions options;
+  std::string cameras, object_masks;
+};
+
+// A manifest: a JSON list of {name, scene, removed, removed_is?, method?, features?, labels?,
+// object_id?, cameras?, object_masks?}. Relative paths are relative to the manifest's folder;
+// unnamed fields take the base options. Names must be unique and non-empty.
+std::vector<SweepScene> ReadSweepManifest(const std::string& path, const RefineOptions& base);
+
+// "--shard i/n": the i-th (0-based, 0 <= i < n) of n slices.
+struct Shard {
+  std::size_t index = 0, count = 1;
+  std::string ToString() const;  // "i/n"
+};
+Shard ParseShard(const std::string& text);
+
+// The jobs (scene × point, scenes outermost) of shard `shard` out of `total`: the contiguous block
+// [floor(i·total/n), floor((i+1)·total/n)). Contiguous blocks keep the points of one graph in one
+// shard (each shard rebuilds at most one graph it shares with a neighbour) and sizes differ by ≤ 1.
+std::pair<std::size_t, std::size_t> ShardRange(std::size_t total, const Shard& shard);
+
+struct SweepProgress {
+  std::size_t position = 0, count = 0;  // 1-based position among this run's points
+  const nlohmann::json* record = nullptr;  // null when skipped (already in results.jsonl)
+  std::string id;
+};
+
+struct SweepOptions {
+  std::vector<SweepScene> scenes;      // at least one
+  SweepGrid grid;
+  Shard shard;
+  std::string out_dir;                 // required
+  nlohmann::json solver_options = nlohmann::json::object();  // passed to every solver
+  std::function<void(const SweepProgress&)> on_point;        // progress (one call per point)
+};
+
+struct SweepResult {
+  std::size_t total = 0;        // scenes × grid points
+  std::size_t in_shard = 0;     // this shard's share
+  std::size_t already_done = 0; // skipped: in results.jsonl from an earlier run
+  std::size_t ran = 0, empty_graphs = 0;
+  std::size_t graphs_built = 0; // graph builds (≤ distinct graph settings in the shard)
+  nlohmann::json report;        // exactly what was written to report.json
+};
+
+// Runs the shard's points not yet in out_dir/results.jsonl, appending one flushed line per point
+// (a killed run loses at most the point it was computing), then rewrites results.csv, the charts
+// and report.json from every record in results.jsonl. Validates options and inputs (al::Error)
+// before appending anything.
+SweepResult RunSweep(const SweepOptions& options);
+
+// ---- results.jsonl and the derived outputs (shared by sweep and merge)
+
+struct JsonlContents {
+  std::vector<nlohmann::json> records;
+  bool truncated_tail = false;   // the last line had no newline and did not parse (killed writer)
+  std::uintmax_t good_bytes = 0; // bytes up to and including the last complete line
+};
+
+// Reads results.jsonl (missing file: no records). A last line without its newline that does not
+// parse is the remnant of a killed run and is reported, not fatal; any other bad line is an
+// al::Error naming the line.
+JsonlContents ReadResultsJsonl(const std::string& path);
+
+// Canonical order of records (scene name, then the numeric parameters, then solver, threshold):
+// the order of merged outputs and of results.csv.
+void SortRecords(std::vector<nlohmann::json>& records);
+
+// A record without its execution details ("seconds", "run"): what must be equal between a
+// sharded and an unsharded run.
+nlohmann::json RecordWithoutTimings(const nlohmann::json& record);
+
+// results.csv: one row per record, fixed columns (empty cells where a value is absent).
+std::string ResultsCsv(const std::vector<nlohmann::json>& records);
+
+// Writes results.csv and the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
+// F1 over k × δ, one panel per λ) for the records into dir. Returns {"charts": [...],
+// "skipped_charts": [{name, reason}]} for the report.
+nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records);
+
+// ---- merge
+
+struct MergeResult {
+  std::size_t records = 0, duplicates = 0, conflicts = 0;
+  std::vector<std::string> warnings;
+  nlohmann::json report;
+};
+
+// Combines the results.jsonl of shard directories into out_dir: deduplicated by id (first
+// occurrence wins; a duplicate whose non-timing content differs is counted as a conflict and
+// warned about), canonical order, results.csv, charts, report.json.
+MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+
+}  // namespace al
