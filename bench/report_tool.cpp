@@ -501,42 +501,64 @@ bool TimingsChart(const std::string& gnuplot, const fs::path& png, const Files& 
   return Plot(gnuplot, png, data.str(), script);
 }
 
-// Seconds per stage (stacked) for each run of bench/scale, and peak RSS against 3x the file.
+// bench/scale: seconds per stage (stacked, one bar per run) and the sampled RSS of each run over
+// time against 3x the scene file (where in a run the memory goes).
 bool ScaleChart(const std::string& gnuplot, const fs::path& png, const json& scale) {
   if (!scale.is_object() || !scale.contains("runs")) return false;
   std::vector<std::string> stages;
   for (const json& r : scale["runs"]) {
     const json ts = r.value("timings_s", json::object());  // named: items() must not outlive it
     for (const auto& [k, v] : ts.items())
-      if (k != "total" && v.is_number() && std::find(stages.begin(), stages.end(), k) == stages.end())
+      if (k.find("total") == std::string::npos && v.is_number() &&
+          std::find(stages.begin(), stages.end(), k) == stages.end())
         stages.push_back(k);
   }
   if (stages.empty()) return false;
+  // Block 0: the stage table; blocks 1..: one RSS timeline per run (gnuplot "index").
   std::ostringstream data;
-  data << "run rss";
+  data << "run";
   for (const auto& s : stages) data << " " << s;
   data << "\n";
-  int n = 0;
+  std::vector<std::string> labels;
   for (const json& r : scale["runs"]) {
     std::string label = r.value("stage", std::string("?"));
     if (r.contains("solver")) label += " " + r["solver"].get<std::string>();
-    data << Quote(label) << " " << r.value("peak_rss_mib", NAN);
+    labels.push_back(label);
+    data << Quote(label);
     const json ts = r.value("timings_s", json::object());
     for (const auto& s : stages) data << " " << (ts.contains(s) && ts[s].is_number() ? ts[s].get<double>() : 0.0);
     data << "\n";
-    ++n;
+  }
+  std::string titles;
+  for (const json& r : scale["runs"]) {
+    data << "\n\n";
+    const json tl = r.value("rss_timeline_s_mib", json::array());
+    if (tl.empty()) data << "0 0\n";
+    for (const json& p : tl) data << p[0].get<double>() << " " << p[1].get<double>() << "\n";
+  }
+  for (std::string l : labels) {  // word() splits on spaces: "refine bk" -> "refine_bk"
+    std::replace(l.begin(), l.end(), ' ', '_');
+    titles += (titles.empty() ? "" : " ") + l;
   }
   const double limit = 3 * scale.value("scene_file_mib", NAN);
   std::ostringstream script;
-  script << "set multiplot layout 1,2 title 'bench/scale: " << scale.value("scene", std::string("3M scene")) << "'\n"
-         << "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.8\n"
+  // 18 distinct colours so stacked stages (synth + refine + eval: 16 today) never share one.
+  const char* colours[] = {"#4682b4", "#e69f00", "#009e73", "#cc3333", "#9467bd", "#8c564b",
+                           "#e377c2", "#7f7f7f", "#bcbd22", "#17becf", "#000000", "#f0e442",
+                           "#1f3b73", "#ff7f0e", "#98df8a", "#c5b0d5", "#7b4173", "#ad494a"};
+  for (int i = 0; i < 18; ++i) script << "set linetype " << i + 1 << " lc rgb '" << colours[i] << "'\n";
+  script << "set linetype cycle 18\n"
+         << "set multiplot layout 1,2 title 'bench/scale: " << scale.value("scene", std::string("3M scene")) << "'\n"
+         << "set style data histograms\nset style histogram rowstacked\nset style fill solid 0.85\n"
          << "set boxwidth 0.6\nset grid ytics\nset key outside bottom horizontal font ',8'\n"
-         << "set title 'seconds per stage'\nset ylabel 's'\n"
-         << "plot for [c=3:" << 2 + stages.size() << "] 'data.dat' using c:xtic(1) title columnheader(c)\n"
-         << "set style histogram clustered\nset title 'peak RSS (line: 3× scene file)'\nset ylabel 'MiB'\n"
-         << "set key off\nset yrange [0:*]\n"
-         << "plot 'data.dat' using 2:xtic(1) lc rgb '#4682b4', " << (std::isfinite(limit) ? limit : 0)
-         << " with lines lw 2 lc rgb '#cc3333'\nunset multiplot\n";
+         << "set title 'seconds per stage (report.json timings_s)'\nset ylabel 's'\n"
+         << "plot for [c=2:" << 1 + stages.size() << "] 'data.dat' index 0 using c:xtic(1) title columnheader(c)\n"
+         << "set style data lines\nset title 'sampled RSS (red: 3× scene file)'\nset ylabel 'MiB'\n"
+         << "set xlabel 's since start'\nset yrange [0:*]\nset key inside bottom right font ',8'\n"
+         << "names = \"" << titles << "\"\n"
+         << "plot for [i=1:" << labels.size() << "] 'data.dat' index i using 1:2 lw 2 title word(names, i), "
+         << (std::isfinite(limit) ? limit : 0) << " lw 2 lc rgb '#cc3333' dt 2 title '3x file'\n"
+         << "unset multiplot\n";
   return Plot(gnuplot, png, data.str(), script.str());
 }
 

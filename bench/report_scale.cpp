@@ -1,0 +1,166 @@
+// bench_scale_collect: gathers what bench/scale measured (each stage's report.json: peak_rss_mib,
+// timings_s, status, counts, graph; the script's wall time, exit code and sampled RSS timeline)
+// into one JSON file, bench/results/scale_3m.json, which bench_report turns into the scale section
+// of docs/benchmarks.md. A C++ tool because python/jq are not guaranteed on CI machines.
+//   bench_scale_collect --out FILE --scene-file PLY --scene TEXT --synth-command TEXT
+//       --machine TEXT --run "name=refine_bk;exit=0;wall_s=12.3;report=DIR/report.json;rss=FILE"...
+//       [--note TEXT]...
+// Exit codes: 0 ok, 1 usage, 2 bad input (al::ExitCode).
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/core/atomic_file.hpp"
+#include "al/core/error.hpp"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// "a=1;b=x" -> {a: 1, b: x}
+std::map<std::string, std::string> ParseFields(const std::string& spec) {
+  std::map<std::string, std::string> out;
+  std::stringstream ss(spec);
+  std::string item;
+  while (std::getline(ss, item, ';')) {
+    const auto eq = item.find('=');
+    if (eq == std::string::npos)
+      throw al::Error("bench_scale_collect: --run field without '=': " + item, al::ExitCode::kUsage);
+    out[item.substr(0, eq)] = item.substr(eq + 1);
+  }
+  return out;
+}
+
+double ToDouble(const std::string& s, const std::string& what) {
+  try {
+    std::size_t used = 0;
+    const double v = std::stod(s, &used);
+    if (used == s.size()) return v;
+  } catch (const std::exception&) {
+  }
+  throw al::Error("bench_scale_collect: " + what + " is not a number: '" + s + "'", al::ExitCode::kUsage);
+}
+
+// RSS samples "seconds KiB" per line -> [[seconds, MiB], ...], thinned to at most max_points
+// (always keeping the peak sample, the one that matters).
+json RssTimeline(const fs::path& path, double* peak_mib, std::size_t max_points = 150) {
+  std::ifstream in(path);
+  std::vector<std::pair<double, double>> s;
+  double t = 0, kib = 0;
+  while (in >> t >> kib) s.emplace_back(t, kib / 1024.0);
+  *peak_mib = NAN;
+  json out = json::array();
+  if (s.empty()) return out;
+  const auto peak = std::max_element(s.begin(), s.end(),
+                                     [](const auto& a, const auto& b) { return a.second < b.second; });
+  *peak_mib = peak->second;
+  const std::size_t step = std::max<std::size_t>(1, (s.size() + max_points - 1) / max_points);
+  const std::size_t peak_index = static_cast<std::size_t>(peak - s.begin());
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (i % step == 0 || i == peak_index || i + 1 == s.size())
+      out.push_back({std::round(s[i].first * 100) / 100, std::round(s[i].second * 10) / 10});
+  return out;
+}
+
+json CollectRun(const std::map<std::string, std::string>& f) {
+  auto get = [&](const std::string& k) {
+    auto it = f.find(k);
+    if (it == f.end()) throw al::Error("bench_scale_collect: --run needs " + k + "=", al::ExitCode::kUsage);
+    return it->second;
+  };
+  json r;
+  const std::string name = get("name");
+  r["name"] = name;
+  // "refine_bk" -> stage refine, solver bk: the report groups refine runs by solver.
+  const auto us = name.find('_');
+  r["stage"] = name.substr(0, us);
+  if (us != std::string::npos) r["solver"] = name.substr(us + 1);
+  r["exit_code"] = static_cast<int>(ToDouble(get("exit"), "exit"));
+  r["wall_s"] = ToDouble(get("wall_s"), "wall_s");
+  if (auto it = f.find("rss"); it != f.end() && fs::exists(it->second)) {
+    double sampled_peak = NAN;
+    r["rss_timeline_s_mib"] = RssTimeline(it->second, &sampled_peak);
+    if (std::isfinite(sampled_peak)) r["sampled_peak_rss_mib"] = sampled_peak;
+  }
+  const fs::path report = get("report");
+  if (fs::exists(report)) {
+    std::ifstream in(report);
+    json rep;
+    try {
+      rep = json::parse(in);
+    } catch (const json::exception& e) {
+      throw al::FileError(report.string(), std::string("not valid JSON: ") + e.what());
+    }
+    r["report"] = report.string();
+    for (const char* key : {"status", "peak_rss_mib", "timings_s", "counts", "graph"})
+      if (rep.contains(key)) r[key] = rep[key];
+    if (rep.contains("solver") && rep["solver"].is_object()) r["solver_result"] = rep["solver"];
+  } else {
+    r["status"] = "no report.json";
+  }
+  return r;
+}
+
+int Main(int argc, char** argv) {
+  fs::path out, scene_file;
+  json doc;
+  doc["runs"] = json::array();
+  doc["notes"] = json::array();
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (i + 1 >= argc) throw al::Error("bench_scale_collect: " + a + " needs a value", al::ExitCode::kUsage);
+    const std::string v = argv[++i];
+    if (a == "--out") out = v;
+    else if (a == "--scene-file") scene_file = v;
+    else if (a == "--scene") doc["scene"] = v;
+    else if (a == "--synth-command") doc["synth_command"] = v;
+    else if (a == "--machine") doc["machine"] = v;
+    else if (a == "--run") doc["runs"].push_back(CollectRun(ParseFields(v)));
+    else if (a == "--note") doc["notes"].push_back(v);
+    else throw al::Error("bench_scale_collect: unknown argument '" + a + "'", al::ExitCode::kUsage);
+  }
+  if (out.empty()) throw al::Error("bench_scale_collect: --out is required", al::ExitCode::kUsage);
+  if (!scene_file.empty() && fs::exists(scene_file)) {
+    doc["scene_file_bytes"] = fs::file_size(scene_file);
+    doc["scene_file_mib"] = static_cast<double>(fs::file_size(scene_file)) / (1024.0 * 1024.0);
+  } else {
+    doc["notes"].push_back("scene file missing: synth failed?");
+  }
+  // The SPEC §8 memory check, stated where the numbers are.
+  if (doc.contains("scene_file_mib"))
+    for (const json& r : doc["runs"])
+      if (r.value("stage", std::string()) == "refine" && r.contains("peak_rss_mib")) {
+        const double ratio = r["peak_rss_mib"].get<double>() / doc["scene_file_mib"].get<double>();
+        std::ostringstream o;
+        o.precision(3);
+        o << "refine (" << r.value("solver", std::string("?")) << ") peak RSS = " << ratio
+          << "x the scene file: " << (ratio < 3 ? "within" : "OVER") << " the 3x target";
+        doc["notes"].push_back(o.str());
+      }
+  al::WriteFileAtomically(out, doc.dump(2) + "\n");
+  std::cout << "bench_scale_collect: wrote " << out.string() << "\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return Main(argc, argv);
+  } catch (const al::Error& e) {
+    std::cerr << e.what() << "\n";
+    return static_cast<int>(e.code());
+  } catch (const std::exception& e) {
+    std::cerr << "bench_scale_collect: " << e.what() << "\n";
+    return static_cast<int>(al::ExitCode::kInternal);
+  }
+}
