@@ -32,6 +32,10 @@ class SweepCommand : public Command {
         ->required();
     app.add_option("--manifest", manifest_, "JSON list of scenes {name, scene, removed, removed_is?, method?, "
                    "features?, labels?, object_id?, cameras?, object_masks?} (paths relative to the manifest)");
+    app.add_option("--cameras", cameras_, "Cameras (single-scene sweeps): evaluator metrics per point "
+                   "(acc_delta_depth, collateral damage); the object from --object-masks, else --labels");
+    app.add_option("--object-masks", object_masks_, "Folder of object mask PNGs joined to the cameras by name");
+    app.add_option("--views", views_, "Views evaluated per point: all, or comma-separated names")->default_val("all");
     app.add_option("--name", name_, "Scene name in the records (single-scene sweeps)")->default_val("scene");
     app.add_option("--shard", shard_, "Run only slice i of n (0-based, e.g. 2/8) of the grid x scenes");
     app.add_option("--out", out_, "Output directory (rerunning skips the points already in results.jsonl)")->required();
@@ -43,18 +47,20 @@ class SweepCommand : public Command {
     SweepOptions o;
     o.out_dir = out_;
     if (!manifest_.empty()) {
-      if (!base.scene.empty() || !base.removed.empty())
-        throw Error("give either --manifest or --scene/--removed, not both", ExitCode::kUsage);
+      if (!base.scene.empty() || !base.removed.empty() || !cameras_.empty() || !object_masks_.empty())
+        throw Error("give either --manifest or --scene/--removed/--cameras/--object-masks, not both", ExitCode::kUsage);
       o.scenes = ReadSweepManifest(manifest_, base);
     } else {
       if (base.scene.empty()) throw Error("--scene (or --manifest) is required", ExitCode::kUsage);
       if (name_.empty() || name_.find('|') != std::string::npos)
         throw Error("--name: must be non-empty and without '|'", ExitCode::kUsage);
-      o.scenes.push_back({name_, base, "", ""});
+      if (cameras_.empty() && !object_masks_.empty()) throw Error("--object-masks needs --cameras", ExitCode::kUsage);
+      o.scenes.push_back({name_, base, cameras_, object_masks_});
     }
     o.grid = ParseSweepGrid(grid_, base);
     if (!shard_.empty()) o.shard = ParseShard(shard_);
     o.solver_options = base.solver_options;
+    o.eval_views = views_;
     if (!quiet_) o.on_point = PrintProgress;
     const SweepResult r = RunSweep(o);
     std::cout << "sweep: " << r.ran << " points run, " << r.already_done << " already done, " << r.in_shard
@@ -63,6 +69,7 @@ class SweepCommand : public Command {
     for (const auto& c : r.report["outputs"]["charts"]) std::cout << "chart " << out_ << "/" << c.get<std::string>() << "\n";
     for (const auto& s : r.report["outputs"]["skipped_charts"])
       std::cerr << "chart " << s["name"].get<std::string>() << " skipped: " << s["reason"].get<std::string>() << "\n";
+    if (o.shard.count > 1) std::cout << "charts: drawn by `al-refine merge` over all shards\n";
     std::cout << "wrote " << out_ << "/results.jsonl, results.csv, report.json\n";
     return 0;
   }
@@ -84,12 +91,17 @@ class SweepCommand : public Command {
                     r["gt"]["after"]["f1"].get<double>());
       line += buf;
     }
+    if (r.contains("eval")) {
+      std::snprintf(buf, sizeof buf, "  acc_dd %.3f  collateral %.4f", r["eval"]["acc_delta_depth"].get<double>(),
+                    r["eval"]["collateral_depth"].get<double>());
+      line += buf;
+    }
     if (r["status"] != "ok") line += "  " + r["status"].get<std::string>();
     std::cerr << line << std::endl;
   }
 
   RefineFlags flags_;
-  std::string grid_, manifest_, name_ = "scene", shard_, out_;
+  std::string grid_, manifest_, name_ = "scene", shard_, out_, cameras_, object_masks_, views_ = "all";
   bool quiet_ = false;
 };
 

@@ -182,11 +182,13 @@ void Heatmaps(const fs::path& dir, const std::vector<nlohmann::json>& records, n
 
 }  // namespace
 
-nlohmann::json WriteSweepSummaries(const std::string& dir_text, const std::vector<nlohmann::json>& records) {
+nlohmann::json WriteSweepSummaries(const std::string& dir_text, const std::vector<nlohmann::json>& records,
+                                   bool charts) {
   const fs::path dir(dir_text);
   nlohmann::json out = {{"csv", "results.csv"}, {"charts", nlohmann::json::array()},
                         {"skipped_charts", nlohmann::json::array()}};
   WriteFileAtomically(dir / "results.csv", ResultsCsv(records));
+  if (!charts) return out;
   Pareto(dir, records, out);
   Heatmaps(dir, records, out);
   return out;

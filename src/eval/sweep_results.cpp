@@ -52,6 +52,7 @@ constexpr Column kColumns[] = {
     {"iou_w_after", "/gt/after/iou_w"},
     {"eval_acc_delta_depth", "/eval/acc_delta_depth"},
     {"eval_acc_delta_depth_float", "/eval/acc_delta_depth_float"},
+    {"eval_collateral_depth", "/eval/collateral_depth"},
     {"eval_collateral_psnr", "/eval/collateral_psnr"},
     {"seconds_graph", "/seconds/graph"},
     {"seconds_solve", "/seconds/solve"},

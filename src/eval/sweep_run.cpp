@@ -27,14 +27,17 @@ nlohmann::json GraphRecord(const GraphStats& stats) {
   return g;
 }
 
-// Solver statistics of a record: without seconds (in "seconds") and per-iteration histories
-// (one line per point should stay short).
-nlohmann::json SolverRecord(const nlohmann::json& solver) {
+// Solver statistics of a record: without timings (moved to `timings`, so that everything outside
+// "seconds" is reproducible) and per-iteration histories (one line per point should stay short).
+nlohmann::json SolverRecord(const nlohmann::json& solver, nlohmann::json& timings) {
   nlohmann::json s = solver;
   s.erase("seconds");
   if (s.contains("stats") && s["stats"].is_object())
-    for (auto it = s["stats"].begin(); it != s["stats"].end();)
-      it = it.key().ends_with("_history") ? s["stats"].erase(it) : std::next(it);
+    for (auto it = s["stats"].begin(); it != s["stats"].end();) {
+      const std::string key = it.key();
+      if (key.ends_with("_seconds")) timings[key] = it.value();
+      it = key.ends_with("_history") || key.ends_with("_seconds") ? s["stats"].erase(it) : std::next(it);
+    }
   return s;
 }
 
@@ -93,7 +96,7 @@ SweepResult RunSweep(const SweepOptions& o) {
                       {"method", s.options.method}, {"labels", s.options.labels}, {"cameras", s.cameras},
                       {"object_masks", s.object_masks}});
   report["params"] = {{"grid", GridJson(o.grid)}, {"shard", o.shard.ToString()}, {"scenes", scenes},
-                      {"solver_options", o.solver_options}, {"out", o.out_dir},
+                      {"solver_options", o.solver_options}, {"eval_views", o.eval_views}, {"out", o.out_dir},
                       {"lambda_rescaled", true}};
 
   EnsureDirectory(o.out_dir);
@@ -118,6 +121,7 @@ SweepResult RunSweep(const SweepOptions& o) {
   std::vector<double> unit_weights;  // edge weights at λ = 1
   double applied_lambda = 1.0, graph_seconds = 0.0;
   nlohmann::json load_seconds = nlohmann::json::object();
+  std::optional<PointEvalSetup> eval_setup;
 
   for (std::size_t j = begin; j < end; ++j) {
     const SweepScene& sc = o.scenes[j / P];
@@ -137,6 +141,10 @@ SweepResult RunSweep(const SweepOptions& o) {
       inputs_scene = j / P;
       report["inputs"][sc.name] = scene_report["inputs"];
       for (const auto& w : scene_report["warnings"]) warnings.push_back(sc.name + ": " + w.get<std::string>());
+      eval_setup.reset();
+      if (!sc.cameras.empty())
+        eval_setup = MakePointEvalSetup(sc.cameras, o.eval_views, sc.object_masks, *inputs,
+                                        (fs::path(o.out_dir) / ".eval_scratch").string());
       load_seconds[sc.name] = point_timer.Seconds();
     }
     GraphOptions go = sc.options.graph;
@@ -168,8 +176,10 @@ SweepResult RunSweep(const SweepOptions& o) {
     decision.rule = ParseDecisionRule(p.threshold);
     Timer solve_timer;
     const SolveOutcome solved = SolveAndDecide(*inputs, *graph, go, *solvers.at(p.solver), decision);
-    const double solve_seconds = solve_timer.Seconds();
+    const double solve_and_decide = solve_timer.Seconds();
+    const double solve_seconds = solved.solver.value("seconds", solve_and_decide);
 
+    nlohmann::json solver_timings = nlohmann::json::object();
     std::size_t refined = 0;
     for (bool b : solved.refined) refined += b;
     nlohmann::json record = {
@@ -183,19 +193,26 @@ SweepResult RunSweep(const SweepOptions& o) {
           {"restore", decision.restore}, {"method", sc.options.method}}},
         {"status", solved.empty_graph ? "empty_graph" : "ok"},
         {"graph", GraphRecord(graph->stats)},
-        {"solver", SolverRecord(solved.solver)},
+        {"solver", SolverRecord(solved.solver, solver_timings)},
         {"decision", solved.decision},
         {"counts",
          {{"removed_input", inputs->removal.num_removed}, {"added", solved.added},
           {"restored", solved.restored}, {"refined", refined}}},
     };
-    if (inputs->ground_truth) {
-      nlohmann::json gt = ScoreAgainstGroundTruth(*inputs->ground_truth, inputs->removal.removed, solved.refined);
-      record["gt"] = std::move(gt);
-    }
+    Timer score_timer;
+    if (inputs->ground_truth)
+      record["gt"] = ScoreAgainstGroundTruth(*inputs->ground_truth, inputs->removal.removed, solved.refined);
+    const double score_seconds = score_timer.Seconds();
+    Timer eval_timer;
+    if (eval_setup) record["eval"] = EvaluatePoint(inputs->scene, *eval_setup, solved.refined);
+    // graph: the build time of the graph this point used (also when reused), so graph + solve is
+    // what the setting costs on its own; point: wall time this run spent on the point.
     record["seconds"] = {{"graph", graph_seconds},
-                         {"solve", solved.solver.value("seconds", solve_seconds)},
-                         {"decide_and_score", std::max(0.0, point_timer.Seconds() - solve_seconds)},
+                         {"solve", solve_seconds},
+                         {"decide", std::max(0.0, solve_and_decide - solve_seconds)},
+                         {"score", score_seconds},
+                         {"eval", eval_timer.Seconds()},
+                         {"solver_stages", solver_timings},
                          {"point", point_timer.Seconds()}};
     record["run"] = {{"graph_reused", reused}, {"shard", o.shard.ToString()}};
 
@@ -211,7 +228,8 @@ SweepResult RunSweep(const SweepOptions& o) {
 
   std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string()).records;
   SortRecords(records);
-  const nlohmann::json summaries = WriteSweepSummaries(o.out_dir, records);
+  // A shard's charts would show only its slice: shards write the CSV, `merge` draws the charts.
+  const nlohmann::json summaries = WriteSweepSummaries(o.out_dir, records, /*charts=*/o.shard.count == 1);
   for (const auto& s : summaries["skipped_charts"])
     warnings.push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
   report["outputs"] = summaries;

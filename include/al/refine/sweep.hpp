@@ -15,7 +15,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/eval/eval.hpp"
+#include "al/io/camera.hpp"
 #include "al/refine/refine.hpp"
+#include "al/refine/stages.hpp"
 
 namespace al {
 
@@ -63,7 +66,7 @@ std::string PointId(const std::string& scene, const SweepPoint& point);
 struct SweepScene {
   std::string name;
   RefineOptions options;
-  std::string cameras, object_masks;
+  std::string cameras, object_masks;   // evaluator metrics per point when cameras are given
 };
 
 // A manifest: a JSON list of {name, scene, removed, removed_is?, method?, features?, labels?,
@@ -83,6 +86,25 @@ Shard ParseShard(const std::string& text);
 // shard (each shard rebuilds at most one graph it shares with a neighbour) and sizes differ by ≤ 1.
 std::pair<std::size_t, std::size_t> ShardRange(std::size_t total, const Shard& shard);
 
+// ---- Evaluator metrics of one refined set (al/eval/eval.hpp), for sweeps with cameras and `--auto`.
+
+struct PointEvalSetup {
+  std::vector<Camera> cameras;
+  eval::ObjectSource object;   // object masks folder, else the ground-truth labels' target
+  std::string work_dir;        // RunEval's output folder (scratch, removed after each evaluation)
+};
+
+// Cameras (all views, or the comma-separated `views`) and the object: the masks folder when given,
+// else the ground truth of inputs. Throws al::Error when there is neither.
+PointEvalSetup MakePointEvalSetup(const std::string& cameras, const std::string& views,
+                                  const std::string& object_masks, const RefineInputs& inputs,
+                                  const std::string& work_dir);
+
+// Renders before / after `removed` (no images written) and returns the means over the evaluated
+// views: {acc_delta_depth (8-bit, published), acc_delta_depth_float, collateral_depth (fraction of
+// non-object pixels whose depth changed), collateral_psnr, views_evaluated, views_skipped}.
+nlohmann::json EvaluatePoint(const Scene& scene, const PointEvalSetup& setup, const std::vector<bool>& removed);
+
 struct SweepProgress {
   std::size_t position = 0, count = 0;  // 1-based position among this run's points
   const nlohmann::json* record = nullptr;  // null when skipped (already in results.jsonl)
@@ -94,7 +116,8 @@ struct SweepOptions {
   SweepGrid grid;
   Shard shard;
   std::string out_dir;                 // required
-  nlohmann::json solver_options = nlohmann::json::object();  // passed to every solver
+  nlohmann::json solver_options = nlohmann::json::object();  // {solver name: options}
+  std::string eval_views = "all";      // views evaluated when a scene has cameras
   std::function<void(const SweepProgress&)> on_point;        // progress (one call per point)
 };
 
@@ -138,9 +161,10 @@ nlohmann::json RecordWithoutTimings(const nlohmann::json& record);
 std::string ResultsCsv(const std::vector<nlohmann::json>& records);
 
 // Writes results.csv and the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
-// F1 over k × δ, one panel per λ) for the records into dir. Returns {"charts": [...],
-// "skipped_charts": [{name, reason}]} for the report.
-nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records);
+// F1 over k × δ, one panel per λ; charts = false: the CSV only) for the records into dir. Returns
+// {"csv", "charts": [...], "skipped_charts": [{name, reason}]} for the report.
+nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records,
+                                   bool charts = true);
 
 // ---- merge
 
