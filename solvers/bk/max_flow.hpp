@@ -1,15 +1,23 @@
-// Minimum s-t cut on a CSR graph with terminal arcs, via Boost.Graph's
-// boykov_kolmogorov_max_flow (BSL-1.0). Shared by the bk, cp and exact solvers.
+// The project's one max-flow / minimum s-t cut module, shared by the bk, cp and exact solvers.
+//
+// MaxFlow: Boykov-Kolmogorov augmenting paths with search-tree reuse (Boykov & Kolmogorov, PAMI
+// 2004), written for this project from the paper (the GPL codes of Kolmogorov / pcp are not used).
+// Terminal arcs are stored in the nodes (one signed residual per node), arcs in CSR form built once
+// per Solve(); all buffers are kept between Reset() calls so the many small cuts of cut pursuit and
+// of the exact level-set solver allocate nothing in steady state. Deterministic (no randomness,
+// arcs visited in insertion order).
 //
 // Cut cost of a partition (S = source side, T = sink side):
 //   sum_{v in T} source_cap[v] + sum_{v in S} sink_cap[v]
 //   + sum_{edges u->v with u in S, v in T} cap(u->v)
 // i.e. source_cap[v] is what v pays for ending on the sink side, sink_cap[v] what it pays for the
-// source side. Edges are given in the RefineProblem CSR layout (first_edge[V+1], adj_vertices[E],
-// each undirected edge once); forward_cap[e] is the capacity of u->adj_vertices[e], reverse_cap[e]
-// that of the opposite arc (empty reverse_cap = symmetric: reverse = forward).
-// Capacities must be >= 0 (NaN is an error); +infinity is allowed (hard constraint) and replaced
-// internally by a finite value larger than any finite cut.
+// source side. The returned source side is the set of nodes reachable from the source in the final
+// residual graph (the smallest minimum-cut source set).
+//
+// MinCutLabels: the same cut on the RefineProblem CSR layout with input validation and +infinity
+// capacities (hard constraints). MinCutLabelsBoost: identical contract computed with Boost.Graph's
+// boykov_kolmogorov_max_flow (BSL-1.0); kept only as an independent cross-check in tests and as the
+// baseline of bench/bk_bench.cpp (docs/solvers.md has the measured reason for not using it).
 #pragma once
 #include <cstdint>
 #include <span>
@@ -17,20 +25,82 @@
 
 namespace al {
 
+class MaxFlow {
+ public:
+  // Starts a new network of num_nodes nodes without terminal capacities or edges.
+  void Reset(std::int32_t num_nodes);
+  // Adds terminal capacities (both >= 0, finite): source_cap is paid when v ends on the sink side,
+  // sink_cap when it ends on the source side. May be called several times per node.
+  void AddTerminal(std::int32_t v, double source_cap, double sink_cap);
+  // Signed unary: a > 0 is a source arc of capacity a, a < 0 a sink arc of capacity -a.
+  void AddUnary(std::int32_t v, double a) { a > 0.0 ? AddTerminal(v, a, 0.0) : AddTerminal(v, 0.0, -a); }
+  // Edge with capacity cap_uv from u to v and cap_vu from v to u (finite, >= 0; u != v).
+  void AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu);
+  // Computes the maximum flow; returns the minimum cut value (terminal constants included).
+  double Solve();
+  // After Solve(): true if v is on the source side of the minimum cut.
+  bool SourceSide(std::int32_t v) const { return parent_[v] != kFree && !sink_tree_[v]; }
+  std::int32_t num_nodes() const { return n_; }
+  std::int64_t num_augmentations() const { return augmentations_; }
+
+ private:
+  static constexpr std::int32_t kFree = -1, kTerminal = -2, kOrphan = -3;
+  static constexpr std::int32_t kNotQueued = -1, kQueueEnd = -2;
+
+  void Build();
+  void Activate(std::int32_t v);
+  std::int32_t NextActive();
+  void MakeOrphan(std::int32_t v);
+  void Augment(std::int32_t middle_arc);
+  void Adopt();
+  void ProcessOrphan(std::int32_t v);
+
+  std::int32_t n_ = 0;
+  double flow_ = 0.0;
+  std::int64_t augmentations_ = 0;
+  // Pending edges (until Build()).
+  std::vector<std::int32_t> eu_, ev_;
+  std::vector<double> ecap_uv_, ecap_vu_;
+  // Nodes.
+  std::vector<double> tr_;              // terminal residual: > 0 to the source, < 0 to the sink
+  std::vector<std::int32_t> first_;     // CSR offsets, n + 1
+  std::vector<std::int32_t> parent_;    // arc to the parent in its tree, or kFree/kTerminal/kOrphan
+  std::vector<char> sink_tree_;         // 1 if the node belongs to the sink tree
+  std::vector<std::int32_t> ts_, dist_; // timestamps and distance-to-terminal estimates
+  std::vector<std::int32_t> next_;      // active FIFO links (kNotQueued / kQueueEnd)
+  std::int32_t queue_first_ = kQueueEnd, queue_last_ = kQueueEnd;
+  std::vector<std::int32_t> orphans_;
+  std::size_t orphan_head_ = 0;
+  std::int32_t time_ = 0;
+  // Arcs: arc a goes to head_[a]; sister_[a] is the opposite arc; rcap_ its residual capacity.
+  std::vector<std::int32_t> head_, sister_;
+  std::vector<double> rcap_;
+};
+
 struct MinCutResult {
   std::vector<std::uint8_t> source_side;  // V: 1 if v is on the source side of a minimum cut
   double cut_value = 0.0;                 // minimum cut (= max flow), constants included
-  double build_seconds = 0.0;             // building the Boost network
-  double flow_seconds = 0.0;              // boykov_kolmogorov_max_flow itself
+  double build_seconds = 0.0;             // building the network
+  double flow_seconds = 0.0;              // the max-flow itself
 };
 
-// The returned source side is the set of nodes reachable from the source in the final residual
-// graph (the smallest minimum-cut source set). Deterministic. Throws al::Error on bad sizes or
-// negative/NaN capacities.
+// Edges are given in the RefineProblem CSR layout (first_edge[V+1], adj_vertices[E], each undirected
+// edge once); forward_cap[e] is the capacity of u->adj_vertices[e], reverse_cap[e] that of the
+// opposite arc (empty reverse_cap = symmetric: reverse = forward). Capacities must be >= 0 (NaN is an
+// error); +infinity is allowed (hard constraint) and replaced internally by a finite value larger than
+// any finite cut. Deterministic. Throws al::Error on bad sizes, bad adjacency or negative/NaN
+// capacities.
 MinCutResult MinCutLabels(std::span<const double> source_cap, std::span<const double> sink_cap,
                           std::span<const std::int64_t> first_edge,
                           std::span<const std::int32_t> adj_vertices,
                           std::span<const double> forward_cap,
                           std::span<const double> reverse_cap = {});
+
+// Same contract, computed with Boost.Graph's boykov_kolmogorov_max_flow (reference / baseline).
+MinCutResult MinCutLabelsBoost(std::span<const double> source_cap, std::span<const double> sink_cap,
+                               std::span<const std::int64_t> first_edge,
+                               std::span<const std::int32_t> adj_vertices,
+                               std::span<const double> forward_cap,
+                               std::span<const double> reverse_cap = {});
 
 }  // namespace al

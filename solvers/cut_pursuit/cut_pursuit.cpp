@@ -13,8 +13,9 @@
 #include <tuple>
 
 #include "al/core/error.hpp"
+#include "al/core/timer.hpp"
+#include "solvers/bk/max_flow.hpp"
 #include "solvers/cut_pursuit/loss.hpp"
-#include "solvers/cut_pursuit/min_cut.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
 
 namespace al::cp {
@@ -95,7 +96,7 @@ bool Feasible(const double* X, const double* s, int D, double eps) {
 // Splits one component; returns true when its vertices got different labels (written to `label`).
 bool SplitComponent(const Context& cx, std::int32_t c, const std::vector<std::int32_t>& comp,
                     const std::vector<double>& rX, const std::vector<std::int32_t>& verts,
-                    const std::vector<std::int32_t>& local, std::vector<char>& label) {
+                    const std::vector<std::int32_t>& local, std::vector<char>& label, MaxFlow& mf) {
   const int D = cx.D;
   const std::int32_t n = static_cast<std::int32_t>(verts.size());
   if (n < 2) return false;
@@ -222,26 +223,26 @@ bool SplitComponent(const Context& cx, std::int32_t c, const std::vector<std::in
     const double damping = cx.opt.split_damp_ratio + (1.0 - cx.opt.split_damp_ratio) * (round + 1) / rounds;
     double diff_norm = 0.0;
     for (int d = 0; d < D; ++d) diff_norm += cx.m[d] * std::fabs(s0[d] - s1[d]);
-    MinCut mc(n);
+    mf.Reset(n);
     for (std::int32_t i = 0; i < n; ++i) {
       const double c0 = cost(i, s0.data()), c1 = cost(i, s1.data());
       double a;
       if (!std::isfinite(c1)) a = kBigCap;
       else if (!std::isfinite(c0)) a = -kBigCap;
       else a = c1 - c0;
-      mc.AddUnary(i, a);
+      mf.AddUnary(i, a);
       const std::int32_t v = verts[i];
       for (std::int64_t e = cx.pb.first_edge[v]; e < cx.pb.first_edge[v + 1]; ++e) {
         const std::int32_t u = cx.pb.adj_vertices[e];
         if (comp[u] != c || u == v) continue;
         const double cap = damping * cx.pb.edge_weights[e] * diff_norm;
-        if (cap > 0.0) mc.AddEdge(i, local[u], cap, cap);
+        if (cap > 0.0) mf.AddEdge(i, local[u], cap, cap);
       }
     }
-    mc.Solve();
+    mf.Solve();
     bool changed = false;
     for (std::int32_t i = 0; i < n; ++i) {
-      const char l = mc.IsSink(i) ? 1 : 0;
+      const char l = mf.SourceSide(i) ? 0 : 1;  // sink side takes the new direction
       if (l != cut_label[i]) changed = true;
       cut_label[i] = l;
     }
@@ -360,8 +361,10 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
   std::vector<std::int64_t> cfirst;
   std::vector<std::int32_t> clist, local(V);
   std::vector<char> label(V);
+  std::vector<MaxFlow> networks(threads);  // one reusable flow network per thread
   while (it < opt.cp_it_max && dif > opt.cp_dif_tol) {
     // --- split (parallel over independent components)
+    Timer phase;
     ComponentLists(comp, rV, cfirst, clist);
     for (std::int32_t c = 0; c < rV; ++c)
       for (std::int64_t k = cfirst[c]; k < cfirst[c + 1]; ++k) local[clist[k]] = static_cast<std::int32_t>(k - cfirst[c]);
@@ -378,7 +381,7 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
       const std::int32_t c = order[oi];
       if (saturated[c]) continue;
       std::vector<std::int32_t> verts(clist.begin() + cfirst[c], clist.begin() + cfirst[c + 1]);
-      did_split[c] = SplitComponent(cx, c, comp, rX, verts, local, label) ? 1 : 0;
+      did_split[c] = SplitComponent(cx, c, comp, rX, verts, local, label, networks[omp_get_thread_num()]) ? 1 : 0;
     }
     bool any_split = false;
     for (std::int32_t c = 0; c < rV; ++c) {
@@ -387,6 +390,8 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
     }
     const std::vector<std::int32_t> old_comp = comp;
     const std::vector<double> old_rX = rX;
+    res.split_seconds.push_back(phase.Seconds());
+    phase.Reset();
 
     // --- connected components over bound edges, numbered by smallest vertex (§5, §12)
     std::vector<std::int32_t> cc(V, -1), queue;
@@ -454,8 +459,12 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
         for (int d = 0; d < D; ++d) rp.Ybar[static_cast<std::size_t>(c) * D + d] = umean[static_cast<std::size_t>(c) * D + d] / csize[c];
       }
     }
+    res.reduce_seconds.push_back(phase.Seconds());
+    phase.Reset();
     std::vector<double> X;
     res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+    res.pfdr_seconds.push_back(phase.Seconds());
+    phase.Reset();
 
     // --- merge (§7): chain roots, value of the lowest-index root
     std::vector<std::int32_t> parent(nc);
@@ -520,6 +529,7 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
       res.warnings.push_back("cut pursuit: objective increased at iteration " + std::to_string(it) + " (" +
                              std::to_string(res.objective_history.back()) + " -> " + std::to_string(obj) + ")");
     res.objective_history.push_back(obj);
+    res.merge_seconds.push_back(phase.Seconds());
     if (obj < best_obj) {
       best_obj = obj;
       best_comp = comp;

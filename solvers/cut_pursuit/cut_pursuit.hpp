@@ -47,6 +47,9 @@ struct CutPursuitResult {
   std::vector<double> objective_history;  // Obj[0..it]
   std::vector<double> dif_history;        // Dif[1..it]
   std::vector<int> pfdr_iterations;       // per outer iteration
+  // Wall seconds per outer iteration: split (directions + max-flows), reduced graph, PFDR, merge and
+  // objective. Diagnostics only; never influence the result.
+  std::vector<double> split_seconds, reduce_seconds, pfdr_seconds, merge_seconds;
   int iterations = 0;
   bool converged = false;
   double objective = 0.0;

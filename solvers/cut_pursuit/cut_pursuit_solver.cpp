@@ -43,6 +43,10 @@ class CutPursuitSolver final : public Solver {
     out.stats["components"] = r.num_components;
     out.stats["dif_history"] = r.dif_history;
     out.stats["pfdr_iterations"] = r.pfdr_iterations;
+    out.stats["split_seconds"] = r.split_seconds;
+    out.stats["reduce_seconds"] = r.reduce_seconds;
+    out.stats["pfdr_seconds"] = r.pfdr_seconds;
+    out.stats["merge_seconds"] = r.merge_seconds;
     out.stats["non_monotone_steps"] = r.warnings.size();
     out.stats["emulate_upstream_projection_bug"] = options_.emulate_upstream_projection_bug;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -7,7 +7,7 @@
 
 #include "al/core/error.hpp"
 #include "solvers/cut_pursuit/loss.hpp"
-#include "solvers/cut_pursuit/min_cut.hpp"
+#include "solvers/bk/max_flow.hpp"
 
 namespace al {
 namespace {
@@ -146,6 +146,7 @@ std::vector<double> SolveExactTwoLabel(const RefineProblem& pb, const ExactOptio
   std::int64_t serial = 0;
   ExactStats st;
   std::vector<double> bnd, a;
+  MaxFlow mf;  // buffers reused by every level cut
   while (!stack.empty()) {
     Group g = std::move(stack.back());
     stack.pop_back();
@@ -201,24 +202,24 @@ std::vector<double> SolveExactTwoLabel(const RefineProblem& pb, const ExactOptio
       t = 0.5 * (g.lo + g.hi);
     }
     // Level cut at t: the sink side ("above") pays a_v = phi'_v(t) + boundary.
-    cp::MinCut mc(n);
+    mf.Reset(n);
     a.assign(n, 0.0);
     double neg = 0.0, scale = 0.0;
     for (std::int32_t i = 0; i < n; ++i) {
       const std::int32_t v = g.members[i];
       a[i] = dphi(v, t) + bnd[i];
-      mc.AddUnary(i, a[i]);
+      mf.AddUnary(i, a[i]);
       if (a[i] < 0.0) neg -= a[i];
       scale += std::fabs(a[i]);
       for (std::int64_t k = ff[v]; k < ff[v + 1]; ++k) {
         const std::int32_t u = nbr[k];
-        if (stamp[u] == serial && u > v) mc.AddEdge(i, local[u], om[k], om[k]);
+        if (stamp[u] == serial && u > v) mf.AddEdge(i, local[u], om[k], om[k]);
       }
     }
-    const double flow = mc.Solve();
+    const double flow = mf.Solve();
     ++st.max_flows;
     Group up{{}, t, g.hi, g.depth + 1}, down{{}, g.lo, t, g.depth + 1};
-    for (std::int32_t i = 0; i < n; ++i) (mc.IsSink(i) ? up : down).members.push_back(g.members[i]);
+    for (std::int32_t i = 0; i < n; ++i) (mf.SourceSide(i) ? down : up).members.push_back(g.members[i]);
     // Min cut energy = flow - sum of negative unaries; >= 0 (up to rounding) means no strict split.
     const bool no_gain = flow - neg >= -1e-12 * std::max(scale, 1e-300);
     if (plateau && (up.members.empty() || down.members.empty() || no_gain)) { finalize(t); continue; }
