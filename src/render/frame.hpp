@@ -75,10 +75,11 @@ struct Frame {
   std::vector<std::uint32_t> tile_ranks;     // ranks into splats, front to back per tile
 };
 
-// Sort + binning (§4).
-void BuildFrame(Frame& frame);
+// Sort + binning (§4), src/render/binning.cpp. The result does not depend on threads.
+void BuildFrame(Frame& frame, int threads);
 
-// Composites one tile into out (RASTERIZER.md §5, §7). skip (by rank) may be null.
+// Composites one tile into out (RASTERIZER.md §5, §7), src/render/composite.cpp. skip (by rank)
+// may be null.
 void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
                    const Eigen::Vector3f& background, bool front_id, RenderOutput& out);
 

@@ -36,7 +36,7 @@ void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& o
   Preprocess(scene, frame.view, options, exclude, frame.proj);
   out.seconds_preprocess = timer.Seconds();
   timer.Reset();
-  BuildFrame(frame);
+  BuildFrame(frame, ThreadCount(options));
   out.seconds_binning = timer.Seconds();
   timer.Reset();
   AllocateOutput(camera.width, camera.height, scene.size(), options.compute_front_id, out);
