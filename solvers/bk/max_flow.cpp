@@ -5,8 +5,8 @@
 // Unlike Dinic, the trees survive augmentations, which is why this is much faster on the kNN graphs
 // of al-refine (few long augmenting paths, many short ones).
 //
-// Conventions: parent_[v] is the arc v -> parent. In the source tree flow runs parent -> v, so the
-// arc that must stay non-saturated is sister_[parent_[v]]; in the sink tree it is parent_[v] itself.
+// Conventions: node.parent is the arc v -> parent. In the source tree flow runs parent -> v, so the
+// arc that must stay non-saturated is the parent arc's sister; in the sink tree the parent arc itself.
 #include "max_flow.hpp"
 
 #include <algorithm>
@@ -22,16 +22,16 @@ void MaxFlow::Reset(std::int32_t num_nodes) {
   ev_.clear();
   ecap_uv_.clear();
   ecap_vu_.clear();
-  tr_.assign(num_nodes, 0.0);
+  user_tr_.assign(num_nodes, 0.0);
 }
 
 void MaxFlow::AddTerminal(std::int32_t v, double source_cap, double sink_cap) {
   // Only the difference needs an arc; the common part is paid by every cut.
-  const double delta = tr_[v];
+  const double delta = user_tr_[v];
   if (delta > 0.0) source_cap += delta;
   else sink_cap -= delta;
   flow_ += std::min(source_cap, sink_cap);
-  tr_[v] = source_cap - sink_cap;
+  user_tr_[v] = source_cap - sink_cap;
 }
 
 void MaxFlow::AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu) {
@@ -45,32 +45,66 @@ void MaxFlow::AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_
 void MaxFlow::Build() {
   const std::int32_t n = n_;
   const std::size_t m = eu_.size();
-  first_.assign(static_cast<std::size_t>(n) + 1, 0);
+  // Adjacency in the caller's numbering; uslot_ records each edge end's slot.
+  ufirst_.assign(static_cast<std::size_t>(n) + 1, 0);
   for (std::size_t e = 0; e < m; ++e) {
-    ++first_[eu_[e] + 1];
-    ++first_[ev_[e] + 1];
+    ++ufirst_[eu_[e] + 1];
+    ++ufirst_[ev_[e] + 1];
   }
-  for (std::int32_t v = 0; v < n; ++v) first_[v + 1] += first_[v];
-  head_.resize(2 * m);
-  sister_.resize(2 * m);
-  rcap_.resize(2 * m);
-  // Fill with a moving cursor per node (borrowing next_ as scratch), in insertion order.
-  next_.assign(first_.begin(), first_.end() - 1);
+  for (std::int32_t v = 0; v < n; ++v) ufirst_[v + 1] += ufirst_[v];
+  uadj_.resize(2 * m);
+  uslot_.resize(2 * m);
+  perm_.assign(ufirst_.begin(), ufirst_.end() - 1);  // borrowed as fill cursor
   for (std::size_t e = 0; e < m; ++e) {
-    const std::int32_t i = next_[eu_[e]]++, j = next_[ev_[e]]++;
-    head_[i] = ev_[e];
-    head_[j] = eu_[e];
-    sister_[i] = j;
-    sister_[j] = i;
-    rcap_[i] = ecap_uv_[e];
-    rcap_[j] = ecap_vu_[e];
+    const std::int32_t i = perm_[eu_[e]]++, j = perm_[ev_[e]]++;
+    uadj_[i] = ev_[e];
+    uadj_[j] = eu_[e];
+    uslot_[2 * e] = i;
+    uslot_[2 * e + 1] = j;
+  }
+  // Breadth-first renumbering, roots in increasing caller index (deterministic).
+  perm_.assign(n, -1);
+  order_.resize(n);
+  std::int32_t count = 0;
+  for (std::int32_t r = 0; r < n; ++r) {
+    if (perm_[r] >= 0) continue;
+    std::int32_t head = count;
+    perm_[r] = count;
+    order_[count++] = r;
+    while (head < count) {
+      const std::int32_t u = order_[head++];
+      for (std::int32_t k = ufirst_[u]; k < ufirst_[u + 1]; ++k) {
+        const std::int32_t v = uadj_[k];
+        if (perm_[v] >= 0) continue;
+        perm_[v] = count;
+        order_[count++] = v;
+      }
+    }
+  }
+  nodes_.resize(static_cast<std::size_t>(n) + 1);
+  std::int32_t pos = 0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    const std::int32_t u = order_[i];
+    nodes_[i].tr = user_tr_[u];
+    nodes_[i].first = pos;
+    pos += ufirst_[u + 1] - ufirst_[u];
+  }
+  nodes_[n].first = pos;
+  arcs_.resize(2 * m);
+  // A caller slot k of node u keeps its rank among u's arcs (insertion order).
+  auto slot = [&](std::int32_t k, std::int32_t u) { return nodes_[perm_[u]].first + (k - ufirst_[u]); };
+  for (std::size_t e = 0; e < m; ++e) {
+    const std::int32_t u = eu_[e], v = ev_[e];
+    const std::int32_t i = slot(uslot_[2 * e], u), j = slot(uslot_[2 * e + 1], v);
+    arcs_[i] = {perm_[v], j, ecap_uv_[e]};
+    arcs_[j] = {perm_[u], i, ecap_vu_[e]};
   }
 }
 
 void MaxFlow::Activate(std::int32_t v) {
-  if (next_[v] != kNotQueued) return;
-  next_[v] = kQueueEnd;
-  if (queue_last_ != kQueueEnd) next_[queue_last_] = v;
+  if (nodes_[v].next != kNotQueued) return;
+  nodes_[v].next = kQueueEnd;
+  if (queue_last_ != kQueueEnd) nodes_[queue_last_].next = v;
   else queue_first_ = v;
   queue_last_ = v;
 }
@@ -78,56 +112,58 @@ void MaxFlow::Activate(std::int32_t v) {
 std::int32_t MaxFlow::NextActive() {
   while (queue_first_ != kQueueEnd) {
     const std::int32_t v = queue_first_;
-    queue_first_ = next_[v];
+    queue_first_ = nodes_[v].next;
     if (queue_first_ == kQueueEnd) queue_last_ = kQueueEnd;
-    next_[v] = kNotQueued;
-    if (parent_[v] != kFree) return v;  // freed nodes stay in the queue lazily
+    nodes_[v].next = kNotQueued;
+    if (nodes_[v].parent != kFree) return v;  // freed nodes stay in the queue lazily
   }
   return kQueueEnd;
 }
 
 void MaxFlow::MakeOrphan(std::int32_t v) {
-  parent_[v] = kOrphan;
+  nodes_[v].parent = kOrphan;
   orphans_.push_back(v);
 }
 
 void MaxFlow::Augment(std::int32_t middle) {
   // middle goes from the source tree (head of its sister) to the sink tree (its head).
-  const std::int32_t s_end = head_[sister_[middle]], t_end = head_[middle];
-  double f = rcap_[middle];
+  const std::int32_t s_end = arcs_[arcs_[middle].sister].head, t_end = arcs_[middle].head;
+  double f = arcs_[middle].rcap;
   std::int32_t v = s_end;
-  for (std::int32_t a; (a = parent_[v]) != kTerminal; v = head_[a]) f = std::min(f, rcap_[sister_[a]]);
-  f = std::min(f, tr_[v]);
+  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head)
+    f = std::min(f, arcs_[arcs_[a].sister].rcap);
+  f = std::min(f, nodes_[v].tr);
   v = t_end;
-  for (std::int32_t a; (a = parent_[v]) != kTerminal; v = head_[a]) f = std::min(f, rcap_[a]);
-  f = std::min(f, -tr_[v]);
+  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head)
+    f = std::min(f, arcs_[a].rcap);
+  f = std::min(f, -nodes_[v].tr);
 
-  rcap_[middle] -= f;
-  rcap_[sister_[middle]] += f;
+  arcs_[middle].rcap -= f;
+  arcs_[arcs_[middle].sister].rcap += f;
   for (v = s_end;;) {
-    const std::int32_t a = parent_[v];
+    const std::int32_t a = nodes_[v].parent;
     if (a == kTerminal) {
-      tr_[v] -= f;
-      if (!(tr_[v] > 0.0)) MakeOrphan(v);
+      nodes_[v].tr -= f;
+      if (!(nodes_[v].tr > 0.0)) MakeOrphan(v);
       break;
     }
-    const std::int32_t up = head_[a];
-    rcap_[a] += f;
-    rcap_[sister_[a]] -= f;
-    if (!(rcap_[sister_[a]] > 0.0)) MakeOrphan(v);
+    const std::int32_t up = arcs_[a].head;
+    arcs_[a].rcap += f;
+    arcs_[arcs_[a].sister].rcap -= f;
+    if (!(arcs_[arcs_[a].sister].rcap > 0.0)) MakeOrphan(v);
     v = up;
   }
   for (v = t_end;;) {
-    const std::int32_t a = parent_[v];
+    const std::int32_t a = nodes_[v].parent;
     if (a == kTerminal) {
-      tr_[v] += f;
-      if (!(tr_[v] < 0.0)) MakeOrphan(v);
+      nodes_[v].tr += f;
+      if (!(nodes_[v].tr < 0.0)) MakeOrphan(v);
       break;
     }
-    const std::int32_t up = head_[a];
-    rcap_[sister_[a]] += f;
-    rcap_[a] -= f;
-    if (!(rcap_[a] > 0.0)) MakeOrphan(v);
+    const std::int32_t up = arcs_[a].head;
+    arcs_[arcs_[a].sister].rcap += f;
+    arcs_[a].rcap -= f;
+    if (!(arcs_[a].rcap > 0.0)) MakeOrphan(v);
     v = up;
   }
   flow_ += f;
@@ -135,46 +171,46 @@ void MaxFlow::Augment(std::int32_t middle) {
 }
 
 void MaxFlow::ProcessOrphan(std::int32_t v) {
-  const bool sink = sink_tree_[v] != 0;
+  const bool sink = nodes_[v].sink != 0;
   constexpr std::int32_t kInfDist = std::numeric_limits<std::int32_t>::max();
   std::int32_t best_arc = kFree, best_dist = kInfDist;
-  for (std::int32_t a0 = first_[v]; a0 < first_[v + 1]; ++a0) {
+  for (std::int32_t a0 = nodes_[v].first; a0 < nodes_[v + 1].first; ++a0) {
     // The arc that would carry flow between v and the candidate parent j must be non-saturated.
-    if (!((sink ? rcap_[a0] : rcap_[sister_[a0]]) > 0.0)) continue;
-    const std::int32_t j = head_[a0];
-    if ((sink_tree_[j] != 0) != sink || parent_[j] == kFree) continue;
+    if (!((sink ? arcs_[a0].rcap : arcs_[arcs_[a0].sister].rcap) > 0.0)) continue;
+    const std::int32_t j = arcs_[a0].head;
+    if ((nodes_[j].sink != 0) != sink || nodes_[j].parent == kFree) continue;
     // Is j's root path still valid (ends at the terminal without meeting an orphan)?
     std::int32_t d = 0, k = j;
     while (true) {
-      if (ts_[k] == time_) { d += dist_[k]; break; }
-      const std::int32_t a = parent_[k];
+      if (nodes_[k].ts == time_) { d += nodes_[k].dist; break; }
+      const std::int32_t a = nodes_[k].parent;
       ++d;
-      if (a == kTerminal) { ts_[k] = time_; dist_[k] = 1; break; }
+      if (a == kTerminal) { nodes_[k].ts = time_; nodes_[k].dist = 1; break; }
       if (a == kOrphan) { d = kInfDist; break; }
-      k = head_[a];
+      k = arcs_[a].head;
     }
     if (d == kInfDist) continue;
     if (d < best_dist) { best_arc = a0; best_dist = d; }
-    for (k = j; ts_[k] != time_; k = head_[parent_[k]]) {  // remember the checked path
-      ts_[k] = time_;
-      dist_[k] = d--;
+    for (k = j; nodes_[k].ts != time_; k = arcs_[nodes_[k].parent].head) {  // remember the path
+      nodes_[k].ts = time_;
+      nodes_[k].dist = d--;
     }
   }
   if (best_arc != kFree) {
-    parent_[v] = best_arc;
-    ts_[v] = time_;
-    dist_[v] = best_dist + 1;
+    nodes_[v].parent = best_arc;
+    nodes_[v].ts = time_;
+    nodes_[v].dist = best_dist + 1;
     return;
   }
   // No valid parent: v becomes free; its children become orphans, neighbours that could reach it
   // again become active.
-  parent_[v] = kFree;
-  for (std::int32_t a0 = first_[v]; a0 < first_[v + 1]; ++a0) {
-    const std::int32_t j = head_[a0];
-    const std::int32_t pj = parent_[j];
-    if ((sink_tree_[j] != 0) != sink || pj == kFree) continue;
-    if ((sink ? rcap_[a0] : rcap_[sister_[a0]]) > 0.0) Activate(j);
-    if (pj != kTerminal && pj != kOrphan && head_[pj] == v) MakeOrphan(j);
+  nodes_[v].parent = kFree;
+  for (std::int32_t a0 = nodes_[v].first; a0 < nodes_[v + 1].first; ++a0) {
+    const std::int32_t j = arcs_[a0].head;
+    const std::int32_t pj = nodes_[j].parent;
+    if ((nodes_[j].sink != 0) != sink || pj == kFree) continue;
+    if ((sink ? arcs_[a0].rcap : arcs_[arcs_[a0].sister].rcap) > 0.0) Activate(j);
+    if (pj != kTerminal && pj != kOrphan && arcs_[pj].head == v) MakeOrphan(j);
   }
 }
 
@@ -187,11 +223,14 @@ void MaxFlow::Adopt() {
 double MaxFlow::Solve() {
   const std::int32_t n = n_;
   Build();
-  parent_.assign(n, kFree);
-  sink_tree_.assign(n, 0);
-  ts_.assign(n, 0);
-  dist_.assign(n, 0);
-  next_.assign(n, kNotQueued);
+  for (std::int32_t v = 0; v < n; ++v) {
+    Node& x = nodes_[v];
+    x.parent = kFree;
+    x.sink = 0;
+    x.ts = 0;
+    x.dist = 0;
+    x.next = kNotQueued;
+  }
   queue_first_ = queue_last_ = kQueueEnd;
   orphans_.clear();
   orphan_head_ = 0;
@@ -200,69 +239,69 @@ double MaxFlow::Solve() {
   // (typical for cut pursuit splits and level cuts) most of the flow goes along such 3-arc paths;
   // pushing it in one linear pass saves the tree growth/adoption work of one augmentation each.
   for (std::int32_t u = 0; u < n; ++u) {
-    for (std::int32_t a = first_[u]; a < first_[u + 1] && tr_[u] > 0.0; ++a) {
-      const std::int32_t v = head_[a];
-      if (!(tr_[v] < 0.0) || !(rcap_[a] > 0.0)) continue;
-      const double f = std::min({tr_[u], -tr_[v], rcap_[a]});
-      rcap_[a] -= f;
-      rcap_[sister_[a]] += f;
-      tr_[u] -= f;
-      tr_[v] += f;
+    for (std::int32_t a = nodes_[u].first; a < nodes_[u + 1].first && nodes_[u].tr > 0.0; ++a) {
+      const std::int32_t v = arcs_[a].head;
+      if (!(nodes_[v].tr < 0.0) || !(arcs_[a].rcap > 0.0)) continue;
+      const double f = std::min({nodes_[u].tr, -nodes_[v].tr, arcs_[a].rcap});
+      arcs_[a].rcap -= f;
+      arcs_[arcs_[a].sister].rcap += f;
+      nodes_[u].tr -= f;
+      nodes_[v].tr += f;
       flow_ += f;
     }
   }
   for (std::int32_t v = 0; v < n; ++v) {
-    if (tr_[v] == 0.0) continue;
-    parent_[v] = kTerminal;
-    sink_tree_[v] = tr_[v] < 0.0 ? 1 : 0;
-    dist_[v] = 1;
+    if (nodes_[v].tr == 0.0) continue;
+    nodes_[v].parent = kTerminal;
+    nodes_[v].sink = nodes_[v].tr < 0.0 ? 1 : 0;
+    nodes_[v].dist = 1;
     Activate(v);
   }
   std::int32_t current = kQueueEnd;
   while (true) {
-    if (current == kQueueEnd || parent_[current] == kFree) {
+    if (current == kQueueEnd || nodes_[current].parent == kFree) {
       current = NextActive();
       if (current == kQueueEnd) break;
     }
     const std::int32_t i = current;
     std::int32_t middle = -1;
     // Growth: claim free neighbours; a neighbour of the other tree closes a path.
-    if (!sink_tree_[i]) {
-      for (std::int32_t a = first_[i]; a < first_[i + 1]; ++a) {
-        if (!(rcap_[a] > 0.0)) continue;
-        const std::int32_t j = head_[a];
-        if (parent_[j] == kFree) {
-          sink_tree_[j] = 0;
-          parent_[j] = sister_[a];
-          ts_[j] = ts_[i];
-          dist_[j] = dist_[i] + 1;
+    if (!nodes_[i].sink) {
+      for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
+        if (!(arcs_[a].rcap > 0.0)) continue;
+        const std::int32_t j = arcs_[a].head;
+        if (nodes_[j].parent == kFree) {
+          nodes_[j].sink = 0;
+          nodes_[j].parent = arcs_[a].sister;
+          nodes_[j].ts = nodes_[i].ts;
+          nodes_[j].dist = nodes_[i].dist + 1;
           Activate(j);
-        } else if (sink_tree_[j]) {
+        } else if (nodes_[j].sink) {
           middle = a;
           break;
-        } else if (ts_[j] <= ts_[i] && dist_[j] > dist_[i]) {
-          parent_[j] = sister_[a];  // shorter path to the source through i
-          ts_[j] = ts_[i];
-          dist_[j] = dist_[i] + 1;
+        } else if (nodes_[j].ts <= nodes_[i].ts && nodes_[j].dist > nodes_[i].dist) {
+          nodes_[j].parent = arcs_[a].sister;  // shorter path to the source through i
+          nodes_[j].ts = nodes_[i].ts;
+          nodes_[j].dist = nodes_[i].dist + 1;
         }
       }
     } else {
-      for (std::int32_t a = first_[i]; a < first_[i + 1]; ++a) {
-        if (!(rcap_[sister_[a]] > 0.0)) continue;
-        const std::int32_t j = head_[a];
-        if (parent_[j] == kFree) {
-          sink_tree_[j] = 1;
-          parent_[j] = sister_[a];
-          ts_[j] = ts_[i];
-          dist_[j] = dist_[i] + 1;
+      for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
+        if (!(arcs_[arcs_[a].sister].rcap > 0.0)) continue;
+        const std::int32_t j = arcs_[a].head;
+        if (nodes_[j].parent == kFree) {
+          nodes_[j].sink = 1;
+          nodes_[j].parent = arcs_[a].sister;
+          nodes_[j].ts = nodes_[i].ts;
+          nodes_[j].dist = nodes_[i].dist + 1;
           Activate(j);
-        } else if (!sink_tree_[j]) {
-          middle = sister_[a];
+        } else if (!nodes_[j].sink) {
+          middle = arcs_[a].sister;
           break;
-        } else if (ts_[j] <= ts_[i] && dist_[j] > dist_[i]) {
-          parent_[j] = sister_[a];
-          ts_[j] = ts_[i];
-          dist_[j] = dist_[i] + 1;
+        } else if (nodes_[j].ts <= nodes_[i].ts && nodes_[j].dist > nodes_[i].dist) {
+          nodes_[j].parent = arcs_[a].sister;
+          nodes_[j].ts = nodes_[i].ts;
+          nodes_[j].dist = nodes_[i].dist + 1;
         }
       }
     }

@@ -39,13 +39,34 @@ class MaxFlow {
   // Computes the maximum flow; returns the minimum cut value (terminal constants included).
   double Solve();
   // After Solve(): true if v is on the source side of the minimum cut.
-  bool SourceSide(std::int32_t v) const { return parent_[v] != kFree && !sink_tree_[v]; }
+  bool SourceSide(std::int32_t v) const {
+    const Node& x = nodes_[perm_[v]];
+    return x.parent != kFree && !x.sink;
+  }
   std::int32_t num_nodes() const { return n_; }
   std::int64_t num_augmentations() const { return augmentations_; }
 
  private:
   static constexpr std::int32_t kFree = -1, kTerminal = -2, kOrphan = -3;
   static constexpr std::int32_t kNotQueued = -1, kQueueEnd = -2;
+
+  // Everything the search touches per node / per arc sits in one 32- / 16-byte record, so a visit
+  // costs one cache line instead of one per array (the networks of a 100k-node split do not fit in
+  // L2).
+  struct Node {
+    double tr;           // terminal residual: > 0 to the source, < 0 to the sink
+    std::int32_t first;  // first arc (CSR; the sentinel node n holds the end)
+    std::int32_t parent; // arc to the parent in its tree, or kFree / kTerminal / kOrphan
+    std::int32_t ts;     // timestamp of dist
+    std::int32_t dist;   // distance-to-terminal estimate
+    std::int32_t next;   // active FIFO link (kNotQueued / kQueueEnd)
+    std::int32_t sink;   // 1 if the node belongs to the sink tree
+  };
+  struct Arc {
+    std::int32_t head;    // node the arc points to
+    std::int32_t sister;  // the opposite arc
+    double rcap;          // residual capacity
+  };
 
   void Build();
   void Activate(std::int32_t v);
@@ -58,23 +79,19 @@ class MaxFlow {
   std::int32_t n_ = 0;
   double flow_ = 0.0;
   std::int64_t augmentations_ = 0;
-  // Pending edges (until Build()).
+  // Input in the caller's numbering (until Build()).
+  std::vector<double> user_tr_;
   std::vector<std::int32_t> eu_, ev_;
   std::vector<double> ecap_uv_, ecap_vu_;
-  // Nodes.
-  std::vector<double> tr_;              // terminal residual: > 0 to the source, < 0 to the sink
-  std::vector<std::int32_t> first_;     // CSR offsets, n + 1
-  std::vector<std::int32_t> parent_;    // arc to the parent in its tree, or kFree/kTerminal/kOrphan
-  std::vector<char> sink_tree_;         // 1 if the node belongs to the sink tree
-  std::vector<std::int32_t> ts_, dist_; // timestamps and distance-to-terminal estimates
-  std::vector<std::int32_t> next_;      // active FIFO links (kNotQueued / kQueueEnd)
+  // Internal numbering: breadth-first order over the edges (perm_[user id] = internal id), so that
+  // nodes adjacent in the graph are mostly adjacent in memory whatever the caller's numbering.
+  std::vector<std::int32_t> perm_, order_, ufirst_, uadj_, uslot_;
+  std::vector<Node> nodes_;  // n + 1 (sentinel)
+  std::vector<Arc> arcs_;
   std::int32_t queue_first_ = kQueueEnd, queue_last_ = kQueueEnd;
   std::vector<std::int32_t> orphans_;
   std::size_t orphan_head_ = 0;
   std::int32_t time_ = 0;
-  // Arcs: arc a goes to head_[a]; sister_[a] is the opposite arc; rcap_ its residual capacity.
-  std::vector<std::int32_t> head_, sister_;
-  std::vector<double> rcap_;
 };
 
 struct MinCutResult {
