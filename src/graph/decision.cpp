@@ -5,10 +5,51 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <numeric>
 
 #include "al/core/error.hpp"
 
 namespace al {
+namespace {
+
+// Share of each node's segment (connected component of the graph) that is in R, weighted by the
+// node weights: sum w_v y_v / sum w_v over the segment. Also returns the segment root per node.
+std::vector<double> SegmentShares(const RefineProblem& problem, std::vector<std::int32_t>& root) {
+  const std::size_t V = problem.num_nodes();
+  root.resize(V);
+  std::iota(root.begin(), root.end(), 0);
+  auto find = [&](std::int32_t x) {
+    while (root[x] != x) x = root[x] = root[root[x]];
+    return x;
+  };
+  if (problem.first_edge.size() == V + 1) {
+    for (std::size_t u = 0; u < V; ++u)
+      for (auto e = problem.first_edge[u]; e < problem.first_edge[u + 1]; ++e) {
+        const std::int32_t v = problem.adj_vertices.at(static_cast<std::size_t>(e));
+        if (v < 0 || static_cast<std::size_t>(v) >= V)
+          throw Error("decision: edge endpoint out of range", ExitCode::kInternal);
+        const std::int32_t a = find(static_cast<std::int32_t>(u)), b = find(v);
+        if (a != b) root[std::max(a, b)] = std::min(a, b);
+      }
+  } else if (!problem.first_edge.empty()) {
+    throw Error("decision: first_edge has " + std::to_string(problem.first_edge.size()) +
+                " entries for " + std::to_string(V) + " nodes", ExitCode::kInternal);
+  }
+  std::vector<double> in_r(V, 0.0), total(V, 0.0);
+  const bool weighted = problem.node_weights.size() == V;
+  for (std::size_t v = 0; v < V; ++v) {
+    root[v] = find(static_cast<std::int32_t>(v));
+    const double w = weighted ? problem.node_weights[v] : 1.0;
+    in_r[root[v]] += w * problem.y_remove[v];
+    total[root[v]] += w;
+  }
+  std::vector<double> share(V, 0.0);
+  for (std::size_t v = 0; v < V; ++v)
+    if (total[root[v]] > 0) share[v] = in_r[root[v]] / total[root[v]];
+  return share;
+}
+
+}  // namespace
 
 std::string DecisionRule::ToString() const {
   if (kind == Kind::kPercentile) return "percentile:" + std::to_string(percentile);
@@ -50,8 +91,11 @@ DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProbl
   if (p.size() != V || problem.node_ids.size() != V)
     throw Error("decision: solver output has " + std::to_string(p.size()) + " values for " +
                 std::to_string(V) + " nodes", ExitCode::kInternal);
+  if (!(options.min_segment_share >= 0.0 && options.min_segment_share <= 1.0))
+    throw Error("decision: min_segment_share must be in [0, 1]", ExitCode::kUsage);
   DecisionResult r;
   r.refined = removed;
+  r.min_segment_share = options.min_segment_share;
   if (options.rule.kind == DecisionRule::Kind::kFixed) {
     r.threshold = options.rule.threshold;
   } else if (V == 0) {
@@ -65,6 +109,10 @@ DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProbl
     std::nth_element(sorted.begin(), sorted.begin() + (k - 1), sorted.end());
     r.threshold = sorted[k - 1];
   }
+  // Segments are computed lazily: only when some node outside R passes τ.
+  std::vector<double> share;
+  std::vector<std::int32_t> root;
+  std::vector<std::uint8_t> segment_counted;
   for (std::size_t v = 0; v < V; ++v) {
     const auto i = static_cast<std::size_t>(problem.node_ids[v]);
     if (i >= removed.size())
@@ -72,6 +120,20 @@ DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProbl
     const bool sel = p[v] >= r.threshold;  // exact comparison: ties go to removal
     r.selected += sel;
     r.at_threshold += p[v] == r.threshold;
+    if (sel && !removed[i] && options.min_segment_share > 0.0) {
+      if (share.empty()) {
+        share = SegmentShares(problem, root);
+        segment_counted.assign(V, 0);
+      }
+      if (share[v] < options.min_segment_share) {
+        ++r.held_back;
+        if (!segment_counted[root[v]]) {
+          segment_counted[root[v]] = 1;
+          ++r.segments_held_back;
+        }
+        continue;
+      }
+    }
     if (sel && !removed[i]) {
       r.refined[i] = true;
       ++r.added;
@@ -88,7 +150,10 @@ nlohmann::json DecisionResult::ToJson() const {
           {"added", added},
           {"restored", restored},
           {"at_threshold", at_threshold},
-          {"selected", selected}};
+          {"selected", selected},
+          {"min_segment_share", min_segment_share},
+          {"held_back", held_back},
+          {"segments_held_back", segments_held_back}};
 }
 
 }  // namespace al

@@ -1,4 +1,5 @@
-// Decision rules: fixed threshold, nearest-rank percentile with plateaus, restore, parsing.
+// Decision rules: fixed threshold, nearest-rank percentile with plateaus, restore, the segment
+// rule, parsing.
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -16,20 +17,78 @@ al::RefineProblem Nodes(std::vector<std::int64_t> ids) {
   return p;
 }
 
+// Undirected edges (a < b) into the CSR arrays of p; y_remove from R (p.node_ids index R).
+void SetEdges(al::RefineProblem& p, const std::vector<std::pair<int, int>>& edges, const std::vector<bool>& R) {
+  const std::size_t V = p.node_ids.size();
+  p.first_edge.assign(V + 1, 0);
+  p.adj_vertices.clear();
+  for (std::size_t u = 0; u < V; ++u) {
+    for (const auto& [a, b] : edges)
+      if (a == int(u)) p.adj_vertices.push_back(b);
+    p.first_edge[u + 1] = std::int64_t(p.adj_vertices.size());
+  }
+  p.edge_weights.assign(p.adj_vertices.size(), 1.0);
+  p.node_weights.assign(V, 1.0);
+  for (std::size_t v = 0; v < V; ++v) p.y_remove[v] = R[std::size_t(p.node_ids[v])] ? 1.0 : 0.0;
+}
+
 TEST(Decision, FixedThresholdAddsOnlyUnlessRestore) {
   std::vector<bool> R{true, true, false, false, false, true};
   const auto prob = Nodes({0, 1, 2, 3, 5});
   const std::vector<double> p{1.0, 0.2, 0.5, 0.49, 0.0};
-  const auto d = al::ApplyDecision(R, prob, p);
+  al::DecisionOptions plain;  // SPEC §5's rule alone: node 2 has no segment evidence here
+  plain.min_segment_share = 0.0;
+  const auto d = al::ApplyDecision(R, prob, p, plain);
   EXPECT_EQ(d.refined, (std::vector<bool>{true, true, true, false, false, true}));
   EXPECT_EQ(d.added, 1u);
   EXPECT_EQ(d.restored, 0u);
   EXPECT_EQ(d.at_threshold, 1u);
-  al::DecisionOptions o;
+  al::DecisionOptions o = plain;
   o.restore = true;
   const auto r = al::ApplyDecision(R, prob, p, o);
   EXPECT_EQ(r.refined, (std::vector<bool>{true, false, true, false, false, false}));
   EXPECT_EQ(r.restored, 2u);
+}
+
+TEST(Decision, SegmentRuleAddsOnlyToSegmentsMostlyRemoved) {
+  // Segment A = nodes 0-4 (chain), 4 of 5 in R; segment B = nodes 5-7 (chain), 1 of 3 in R;
+  // segment C = nodes 8-10, 2 of 3 in R (exactly the default share). The solver says "remove"
+  // everywhere.
+  const std::vector<bool> R{true, true, true, true, false, true, false, false, true, true, false};
+  auto prob = Nodes({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10});
+  SetEdges(prob, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {8, 9}, {9, 10}}, R);
+  const std::vector<double> p(11, 1.0);
+  const auto d = al::ApplyDecision(R, prob, p);
+  EXPECT_TRUE(d.refined[4]);    // A: share 0.8
+  EXPECT_FALSE(d.refined[6]);   // B: share 1/3, left as the method left it
+  EXPECT_FALSE(d.refined[7]);
+  EXPECT_TRUE(d.refined[10]);   // C: share 2/3 >= 2/3
+  EXPECT_EQ(d.added, 2u);
+  EXPECT_EQ(d.held_back, 2u);
+  EXPECT_EQ(d.segments_held_back, 1u);
+  EXPECT_EQ(d.selected, 11u);
+  EXPECT_EQ(d.ToJson().at("held_back"), 2);
+  // Off: SPEC §5's plain rule adds all four.
+  al::DecisionOptions off;
+  off.min_segment_share = 0.0;
+  const auto e = al::ApplyDecision(R, prob, p, off);
+  EXPECT_EQ(e.refined, std::vector<bool>(11, true));
+  EXPECT_EQ(e.added, 4u);
+  EXPECT_EQ(e.held_back, 0u);
+  // Shares are weighted by the node weights: node 4 weighing 4 makes A's share 4/8.
+  prob.node_weights[4] = 4.0;
+  const auto f = al::ApplyDecision(R, prob, p);
+  EXPECT_FALSE(f.refined[4]);
+  EXPECT_EQ(f.segments_held_back, 2u);
+  // Restore is independent of the segment rule; bad shares are usage errors.
+  al::DecisionOptions restore;
+  restore.restore = true;
+  std::vector<double> q(11, 1.0);
+  q[5] = 0.0;  // an R node of B the solver returns
+  EXPECT_EQ(al::ApplyDecision(R, prob, q, restore).restored, 1u);
+  al::DecisionOptions bad;
+  bad.min_segment_share = 1.5;
+  EXPECT_THROW(al::ApplyDecision(R, prob, p, bad), al::Error);
 }
 
 TEST(Decision, NearestRankPercentileWithPlateau) {
@@ -43,6 +102,7 @@ TEST(Decision, NearestRankPercentileWithPlateau) {
   }
   al::DecisionOptions o;
   o.rule = al::ParseDecisionRule("percentile:95");
+  o.min_segment_share = 0.0;  // the rank rule alone (no edges, nothing in R here)
   const auto d = al::ApplyDecision(std::vector<bool>(n, false), Nodes(ids), p, o);
   EXPECT_EQ(d.added, 501u);
   EXPECT_DOUBLE_EQ(d.threshold, 9499.0 / n);
