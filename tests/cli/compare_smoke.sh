@@ -65,6 +65,17 @@ r = json.load(open(sys.argv[1]))
 assert [x['id'] for x in r['rows']] == ['bk'] and r['rows'][0]['gap'] is None and r['gap_reason'], r['rows']
 PY
 
+# Empty graph: exit 3, report with status empty_graph and refine's advice, a header-only CSV.
+set +e; "$BIN" compare "${S[@]}" --k 1 --delta 0 --quiet --out "$T/e" >/dev/null 2>"$T/e.err"; rc=$?; set -e
+[ "$rc" = 3 ] || fail "empty graph: exit $rc ($(cat "$T/e.err"))"
+grep -q "delta" "$T/e.err" || fail "empty graph message does not name delta"
+python3 - "$T/e/report.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+assert r['status'] == 'empty_graph' and r['rows'] == [] and r['counts']['edges'] == 0, r['status']
+PY
+[ "$(wc -l < "$T/e/compare.csv")" = 1 ] || fail "empty graph CSV has rows"
+
 # Part 6: the decision rule is wired and reported for the relaxed solvers.
 "$BIN" refine "${S[@]}" --solver exact --threshold percentile:95 --quiet --out "$T/r" >/dev/null
 python3 - "$T/r/report.json" <<'PY'
