@@ -1,98 +1,171 @@
-// Interim `al-refine demo [--out DIR]`: writes a small deterministic generated scene with WritePly
-// and prints the summary of the re-read file. (To be replaced by the full pipeline demo.)
-#include <cmath>
-#include <cstdint>
+// `al-refine demo --out DIR`: the whole job on a generated scene (README "./al demo"): synth →
+// refine the simulated FGS removal with bk and cp → eval of the three removals → a short summary.
+#include <cstdio>
 #include <filesystem>
-#include <iostream>
+#include <regex>
 
 #include "al/core/atomic_file.hpp"
+#include "al/core/error.hpp"
 #include "al/core/report.hpp"
-#include "al/io/ply.hpp"
+#include "al/core/timer.hpp"
+#include "al/eval/eval.hpp"
+#include "al/fixtures/synth.hpp"
+#include "al/refine/refine.hpp"
 #include "src/cli/command.hpp"
 
 namespace al::cli {
-namespace {
-
-// SplitMix64: fully specified, so the scene is identical on every platform and standard library
-// (std:: distributions are implementation-defined).
-struct SplitMix64 {
-  std::uint64_t state;
-  std::uint64_t Next() {
-    std::uint64_t z = (state += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float Uniform(float lo, float hi) { return lo + (hi - lo) * static_cast<float>((Next() >> 40) * 0x1.0p-24); }
-};
-
-// Two clusters ("table" and "object on it") with SH degree 1 and 8-D one-hot-ish semantic features.
-Scene DemoScene(std::size_t n, std::uint64_t seed) {
-  constexpr int kDim = 8;
-  SplitMix64 rng{seed};
-  Scene s;
-  s.sh_degree = 1;
-  s.means.resize(n, 3);
-  s.log_scales.resize(n, 3);
-  s.rotations.resize(n, 4);
-  s.opacity_logits.resize(n);
-  s.sh.resize(n, 12);
-  s.features.resize(n, kDim);
-  s.feature_prefix = "semantic_";
-  s.has_opacity = s.has_scales = s.has_rotations = s.has_f_dc = true;
-  s.source_format = "generated";
-  for (Eigen::Index i = 0; i < static_cast<Eigen::Index>(n); ++i) {
-    const bool object = i % 4 == 0;
-    if (object) {
-      s.means.row(i) << rng.Uniform(-0.3f, 0.3f), rng.Uniform(0.0f, 0.5f), rng.Uniform(-0.3f, 0.3f);
-    } else {
-      s.means.row(i) << rng.Uniform(-2.0f, 2.0f), rng.Uniform(-0.05f, 0.0f), rng.Uniform(-2.0f, 2.0f);
-    }
-    for (int c = 0; c < 3; ++c) s.log_scales(i, c) = std::log(rng.Uniform(0.01f, 0.05f));
-    float q[4], norm = 0;
-    for (float& v : q) { v = rng.Uniform(-1.0f, 1.0f); norm += v * v; }
-    norm = std::sqrt(norm) + 1e-6f;
-    for (int c = 0; c < 4; ++c) s.rotations(i, c) = q[c] / norm;
-    s.opacity_logits(i) = rng.Uniform(-1.0f, 4.0f);
-    for (int k = 0; k < 12; ++k) s.sh(i, k) = k < 3 ? rng.Uniform(-1.0f, 1.0f) : rng.Uniform(-0.1f, 0.1f);
-    for (int d = 0; d < kDim; ++d) s.features(i, d) = rng.Uniform(-0.1f, 0.1f) + ((d == (object ? 1 : 0)) ? 1.0f : 0.0f);
-  }
-  return s;
-}
-
-}  // namespace
 
 class DemoCommand : public Command {
  public:
   std::string Name() const override { return "demo"; }
   std::string Description() const override {
-    return "Write a small deterministic generated scene (2,000 Gaussians) and print its summary";
+    return "Generate a synthetic room, refine its simulated FGS removal with bk and cp, evaluate all three and "
+           "print a summary (outputs under --out)";
   }
   void Setup(CLI::App& app) override {
     app.add_option("--out", out_, "Output folder")->default_val("demo_out");
-    app.add_option("--gaussians", gaussians_, "Number of Gaussians")->default_val(2000)->check(CLI::Range(1, 10000000));
-    app.add_option("--seed", seed_, "Random seed")->default_val(1);
+    app.add_option("--gaussians", synth_.num_gaussians, "Scene size")->check(CLI::Range(1000, 10000000))
+        ->capture_default_str();
+    app.add_option("--seed", synth_.seed, "Random seed")->capture_default_str();
+    app.add_option("--views", synth_.num_views, "Camera views")->check(CLI::Range(1, 1000))->capture_default_str();
+    app.add_option("--resolution", resolution_, "Image size WxH")->capture_default_str();
+    app.add_flag("--quiet", quiet_, "No progress bars");
   }
+
   int Run() override {
-    EnsureDirectory(out_);
-    const std::filesystem::path ply = std::filesystem::path(out_) / "scene.ply";
-    WritePly(ply.string(), DemoScene(static_cast<std::size_t>(gaussians_), seed_));
-    const Scene reread = ReadPly(ply.string());
-    const SceneSummary stats = SummarizeScene(reread);
-    std::cout << "demo scene written to " << ply.string() << "\n" << SummaryToText(stats);
+    namespace fs = std::filesystem;
+    std::smatch m;
+    static const std::regex re("^([0-9]+)x([0-9]+)$");
+    if (!std::regex_match(resolution_, m, re)) throw Error("demo: --resolution must look like 320x240", ExitCode::kUsage);
+    synth_.width = std::stoi(m[1].str());
+    synth_.height = std::stoi(m[2].str());
+    const fs::path out(out_), scene_dir = out / "scene";
+    Timer total, t;
+
+    // 1. The scene, its ground truth, object masks and the simulated removals.
+    std::printf("demo: generating a %s scene with %zu Gaussians, %d views %dx%d ...\n", synth_.preset.c_str(),
+                synth_.num_gaussians, synth_.num_views, synth_.width, synth_.height);
+    std::fflush(stdout);
+    const fixtures::SynthScene synth = fixtures::Synthesize(synth_);
+    fixtures::WriteSynthScene(synth, scene_dir.string(), true);
+    const double synth_s = t.Seconds();
+
+    // 2. Refine the FGS removal with both solvers.
+    struct Run {
+      std::string solver;
+      RefineResult result;
+      double seconds = 0;
+    };
+    std::vector<Run> runs;
+    for (const std::string solver : {"bk", "cp"}) {
+      t.Reset();
+      RefineOptions ro;
+      ro.scene = (scene_dir / "scene.ply").string();
+      ro.removed = (scene_dir / "removed_fgs.npy").string();
+      ro.method = "fgs";
+      ro.solver = solver;
+      ro.labels = (scene_dir / "labels.npy").string();
+      ro.out_dir = (out / ("refine_" + solver)).string();
+      std::printf("demo: refine --method fgs --solver %s ...\n", solver.c_str());
+      std::fflush(stdout);
+      runs.push_back({solver, RunRefine(ro), 0});
+      runs.back().seconds = t.Seconds();
+    }
+
+    // 3. Evaluate the FGS removal and both refinements (object masks from synth, ground truth from labels).
+    t.Reset();
+    std::vector<eval::EvalColumn> columns = {{"after", "fgs", synth.removed.at("fgs"), "", ""}};
+    for (const Run& r : runs) columns.push_back({r.solver, "fgs+" + r.solver, r.result.refined, "", ""});
+    eval::ObjectSource object;
+    object.masks_dir = (scene_dir / "masks").string();
+    object.labels = synth.labels;
+    object.object_id = synth.target_id;
+    eval::EvalOptions eo;
+    eo.out_dir = (out / "eval").string();
+    eo.row_name = synth.preset + "-" + synth.target_name;
+    eo.progress = !quiet_;
+    std::printf("demo: eval ...\n");
+    std::fflush(stdout);
+    const eval::EvalResult er = eval::RunEval(synth.scene, synth.cameras, columns, object, eo);
+    const double eval_s = t.Seconds();
+
+    // 4. Summary.
+    const auto& cols = er.report["metrics"]["columns"];
+    std::printf("\n%s: target '%s' (%zu Gaussians), %zu of %zu views show it\n", eo.row_name.c_str(),
+                synth.target_name.c_str(), synth.objects[std::size_t(synth.target_id)].count, er.evaluated,
+                synth.cameras.size());
+    std::printf("%-10s %8s %7s %7s %7s %10s %10s %11s %9s\n", "removal", "removed", "added", "F1(GT)", "IoU(GT)",
+                "acc_ddepth", "acc_dd_flt", "collat_dep", "refine_s");
+    nlohmann::json summary = nlohmann::json::array();
+    for (std::size_t c = 0; c < cols.size(); ++c) {
+      const auto& col = cols[c];
+      const double refine_s = c == 0 ? 0.0 : runs[c - 1].seconds;
+      const std::string added = c == 0 ? "-" : std::to_string(col["added"].get<std::size_t>());
+      char secs[32] = "-";
+      if (c > 0) std::snprintf(secs, sizeof secs, "%.2f", refine_s);
+      std::printf("%-10s %8zu %7s %7.3f %7.3f %10.3f %10.3f %11.4f %9s\n", col["label"].get<std::string>().c_str(),
+                  col["num_removed"].get<std::size_t>(), added.c_str(), col["gt"]["f1"].get<double>(),
+                  col["gt"]["iou"].get<double>(), col["depth"]["mean_acc_delta_depth"].get<double>(),
+                  col["depth_float"]["mean_acc_delta_depth"].get<double>(),
+                  col["depth"]["collateral_depth"]["mean"].get<double>(),
+                  secs);
+      nlohmann::json s = {{"label", col["label"]},
+                          {"num_removed", col["num_removed"]},
+                          {"gt", col["gt"]},
+                          {"acc_delta_depth", col["depth"]["mean_acc_delta_depth"]},
+                          {"acc_delta_depth_float", col["depth_float"]["mean_acc_delta_depth"]},
+                          {"collateral_depth", col["depth"]["collateral_depth"]["mean"]}};
+      if (c > 0) {
+        s["added"] = col["added"];
+        s["refine_status"] = runs[c - 1].result.status;
+        s["refine_seconds"] = refine_s;
+      }
+      summary.push_back(s);
+    }
+    for (const Run& r : runs)
+      if (r.result.exit_code != 0) std::printf("note: refine with %s: %s\n", r.solver.c_str(), r.result.message.c_str());
+    std::printf("timings: synth %.1f s, refine bk %.1f s, cp %.1f s, eval %.1f s (render %.1f, metrics %.1f, io %.1f)\n",
+                synth_s, runs[0].seconds, runs[1].seconds, eval_s, er.seconds_render, er.seconds_metrics, er.seconds_io);
+    std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk)\n",
+                (out / "eval" / "images").string().c_str());
+    std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (out / "eval" / "table.md").string().c_str(),
+                (out / "eval" / "table.tex").string().c_str(), scene_dir.string().c_str(),
+                (out / "refine_bk").string().c_str(), (out / "refine_cp").string().c_str());
+
     nlohmann::json report = NewReport("demo");
-    report["params"] = {{"out", out_}, {"gaussians", gaussians_}, {"seed", seed_}};
-    report["counts"] = {{"num_gaussians", reread.size()}};
-    report["scene"] = SummaryToJson(stats);
-    report["outputs"] = {{"scene", ply.string()}};
-    WriteReport(out_, report);
+    report["params"] = {{"out", out_},
+                        {"preset", synth_.preset},
+                        {"gaussians", synth_.num_gaussians},
+                        {"seed", synth_.seed},
+                        {"views", synth_.num_views},
+                        {"resolution", resolution_},
+                        {"method", "fgs"},
+                        {"solvers", {"bk", "cp"}}};
+    report["counts"] = {{"num_gaussians", synth.labels.size()},
+                        {"target_gaussians", synth.objects[std::size_t(synth.target_id)].count},
+                        {"views", synth.cameras.size()},
+                        {"evaluated_views", er.evaluated}};
+    report["summary"] = summary;
+    report["timings_s"] = {{"synth", synth_s}, {"refine_bk", runs[0].seconds}, {"refine_cp", runs[1].seconds},
+                           {"eval", eval_s}, {"total", total.Seconds()}};
+    report["outputs"] = {{"scene", scene_dir.string()},
+                         {"refine_bk", (out / "refine_bk").string()},
+                         {"refine_cp", (out / "refine_cp").string()},
+                         {"eval", (out / "eval").string()}};
+    WriteReport(out, report);
     return 0;
   }
 
  private:
-  std::string out_ = "demo_out";
-  long gaussians_ = 2000;
-  std::uint64_t seed_ = 1;
+  std::string out_ = "demo_out", resolution_ = "320x240";
+  fixtures::SynthOptions synth_ = [] {
+    fixtures::SynthOptions o;
+    o.preset = "room";
+    o.num_gaussians = 200000;
+    o.num_views = 12;
+    return o;
+  }();
+  bool quiet_ = false;
 };
 
 AL_REGISTER_COMMAND(DemoCommand);
