@@ -136,6 +136,7 @@ class EvalCommand : public Command {
 
     eval::ObjectSource object;
     object.masks_dir = object_masks_;
+    if (!object_masks_.empty()) report["inputs"]["object_masks"] = {{"path", object_masks_}};
     std::string row = row_name_;
     if (!labels_.empty()) {
       object.labels = eval::LoadLabels(labels_, scene.size());
