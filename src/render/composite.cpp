@@ -8,8 +8,9 @@
 //    project's baseline ISA). The terms that depend only on the column, (A·dx)·dx and B·dx, are
 //    computed once per Gaussian and reused for every row: the same products, so the same bits;
 //  * a row bit mask of pixels still blending, AND-ed with the SIMD test `power <= 0 && !(power <
-//    floor)`, leaves only the pixels that can blend; exp and the blend run for those alone, in
-//    column order, one pixel at a time, as before.
+//    floor)`, leaves only the pixels that can blend; exp (scalar libm expf, as before) runs for
+//    those alone, then alpha, the stop test and the accumulation run 4 pixels at a time with
+//    masks (lanes that fail a test keep their values).
 // Pixels never depend on each other, so the evaluation order across pixels is free; within a
 // pixel the Gaussians are still visited front to back.
 #include <immintrin.h>
@@ -25,6 +26,7 @@ namespace {
 
 constexpr int kPix = kTile * kTile;
 constexpr int kBatch = 64;  // splats staged per gather; small enough to stay in L1
+constexpr std::uint32_t kPrefetch = 16;  // list entries ahead (~ memory latency / gather step)
 static_assert(kTile == 16, "row masks and SSE blocks assume 16-pixel tile rows");
 
 // Splats of one batch that reach at least one pixel of the tile, with their pixel window.
@@ -49,6 +51,13 @@ std::uint32_t Gather(const Frame& frame, std::uint32_t k, std::uint32_t end, con
                      int y0, int w, int h, Batch& batch, int& count) {
   count = 0;
   for (; k < end && count < kBatch; ++k) {
+    // The splats of a tile are scattered through the depth-sorted array; the window test below
+    // branches on their data, so the hardware does not run far ahead on its own.
+    if (k + kPrefetch < end) {
+      const char* ahead = reinterpret_cast<const char*>(&frame.splats[frame.tile_ranks[k + kPrefetch]]);
+      __builtin_prefetch(ahead);
+      __builtin_prefetch(ahead + sizeof(Splat) - 1);  // a splat may straddle two cache lines
+    }
     const std::uint32_t rank = frame.tile_ranks[k];
     if (skip != nullptr && skip[rank]) continue;
     const Splat& s = frame.splats[rank];
@@ -83,61 +92,99 @@ std::uint32_t Gather(const Frame& frame, std::uint32_t k, std::uint32_t end, con
   return k;
 }
 
-// Blends splat g of the batch into the pixels of its window (RASTERIZER.md §5).
+// Lane masks for the 16 subsets of a 4-pixel block (bit l set -> lane l all ones).
+struct LaneMasks {
+  alignas(16) std::uint32_t m[16][4];
+  constexpr LaneMasks() : m() {
+    for (int bits = 0; bits < 16; ++bits)
+      for (int l = 0; l < 4; ++l) m[bits][l] = (bits >> l) & 1 ? 0xffffffffu : 0u;
+  }
+};
+constexpr LaneMasks kLaneMasks;
+
+inline __m128 Select(__m128 mask, __m128 yes, __m128 no) {
+  return _mm_or_ps(_mm_and_ps(mask, yes), _mm_andnot_ps(mask, no));
+}
+
+// Blends splat g of the batch into the pixels of its window (RASTERIZER.md §5), 4 pixels of a
+// row at a time. Per pixel this is the reference's sequence of float32 operations: SSE
+// add/mul/div/min are the same IEEE operations as their scalar forms (no FMA on the baseline ISA,
+// and contraction is off in ISO C++ mode); only exp stays scalar (libm expf, as before), called
+// for the pixels that pass the power tests alone.
 void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining) {
   const int lx0 = batch.lx0[g], lx1 = batch.lx1[g];
   const std::uint32_t window = ((2u << lx1) - 1u) & ~((1u << lx0) - 1u);
   const int blk0 = lx0 >> 2, blk1 = lx1 >> 2;
-  const float u = batch.u[g], v = batch.v[g], a = batch.a[g], b = batch.b[g], c = batch.c[g];
+  const float v = batch.v[g], c = batch.c[g];
   // Column terms of power = -0.5·(A·dx·dx + C·dy·dy) − B·dx·dy, dx = u − px.
   alignas(16) float adx[kTile], bdx[kTile];
-  const __m128 vu = _mm_set1_ps(u), va = _mm_set1_ps(a), vb = _mm_set1_ps(b);
-  for (int k = blk0; k <= blk1; ++k) {
-    const __m128 dx = _mm_sub_ps(vu, _mm_load_ps(acc.colx + 4 * k));
-    _mm_store_ps(adx + 4 * k, _mm_mul_ps(_mm_mul_ps(va, dx), dx));
-    _mm_store_ps(bdx + 4 * k, _mm_mul_ps(vb, dx));
+  {
+    const __m128 u = _mm_set1_ps(batch.u[g]), a = _mm_set1_ps(batch.a[g]), b = _mm_set1_ps(batch.b[g]);
+    for (int k = blk0; k <= blk1; ++k) {
+      const __m128 dx = _mm_sub_ps(u, _mm_load_ps(acc.colx + 4 * k));
+      _mm_store_ps(adx + 4 * k, _mm_mul_ps(_mm_mul_ps(a, dx), dx));
+      _mm_store_ps(bdx + 4 * k, _mm_mul_ps(b, dx));
+    }
   }
   const __m128 minus_half = _mm_set1_ps(-0.5f), zero = _mm_setzero_ps(), floor = _mm_set1_ps(batch.floor[g]);
-  const float opacity = batch.opacity[g], red = batch.red[g], green = batch.green[g], blue = batch.blue[g];
-  const float tz = batch.tz[g];
-  const std::int32_t id = batch.id[g];
+  const __m128 max_alpha = _mm_set1_ps(0.99f), min_alpha = _mm_set1_ps(1.0f / 255.0f);
+  const __m128 one = _mm_set1_ps(1.0f), min_t = _mm_set1_ps(0.0001f);
+  const __m128 opacity = _mm_set1_ps(batch.opacity[g]), red = _mm_set1_ps(batch.red[g]);
+  const __m128 green = _mm_set1_ps(batch.green[g]), blue = _mm_set1_ps(batch.blue[g]), tz = _mm_set1_ps(batch.tz[g]);
+  const __m128i id = _mm_set1_epi32(batch.id[g]), no_id = _mm_setzero_si128();
   for (int ly = batch.ly0[g], ly1 = batch.ly1[g]; ly <= ly1; ++ly) {
-    std::uint32_t bits = acc.active[ly] & window;
+    const std::uint32_t bits = acc.active[ly] & window;
     if (bits == 0) continue;
     const float dy = v - acc.rowy[ly];
     const __m128 cdy = _mm_set1_ps(c * dy * dy), vdy = _mm_set1_ps(dy);
-    alignas(16) float power[kTile];
-    std::uint32_t pass = 0;
     for (int k = blk0; k <= blk1; ++k) {
-      const __m128 p = _mm_sub_ps(_mm_mul_ps(minus_half, _mm_add_ps(_mm_load_ps(adx + 4 * k), cdy)),
-                                  _mm_mul_ps(_mm_load_ps(bdx + 4 * k), vdy));
-      _mm_store_ps(power + 4 * k, p);
-      // Blends only if power <= 0 and not power < floor (NaN fails the first test, as in §5).
-      const __m128 ok = _mm_and_ps(_mm_cmple_ps(p, zero), _mm_cmpnlt_ps(p, floor));
-      pass |= static_cast<std::uint32_t>(_mm_movemask_ps(ok)) << (4 * k);
-    }
-    bits &= pass;
-    while (bits != 0) {
-      const int lx = std::countr_zero(bits);
-      bits &= bits - 1;
-      const int p = ly * kTile + lx;
-      const float alpha = std::min(0.99f, opacity * std::exp(power[lx]));
-      if (alpha < 1.0f / 255.0f) continue;
-      const float t = acc.T[p];
-      const float test_t = t * (1.0f - alpha);
-      if (test_t < 0.0001f) {
-        acc.active[ly] &= ~(1u << lx);
-        --remaining;
-        continue;
+      const std::uint32_t live = (bits >> (4 * k)) & 0xfu;
+      if (live == 0) continue;
+      const __m128 power = _mm_sub_ps(_mm_mul_ps(minus_half, _mm_add_ps(_mm_load_ps(adx + 4 * k), cdy)),
+                                      _mm_mul_ps(_mm_load_ps(bdx + 4 * k), vdy));
+      // Evaluated only if power <= 0 and not power < floor (NaN fails the first test, as in §5).
+      const __m128 test = _mm_and_ps(_mm_cmple_ps(power, zero), _mm_cmpnlt_ps(power, floor));
+      const std::uint32_t lanes = live & static_cast<std::uint32_t>(_mm_movemask_ps(test));
+      if (lanes == 0) continue;
+      alignas(16) float pw[4];
+      _mm_store_ps(pw, power);
+      // Scalar results are combined in registers: storing them one by one and reloading them as a
+      // vector would defeat store forwarding and stall on every block.
+      const float e0 = lanes & 1u ? std::exp(pw[0]) : 0.0f, e1 = lanes & 2u ? std::exp(pw[1]) : 0.0f;
+      const float e2 = lanes & 4u ? std::exp(pw[2]) : 0.0f, e3 = lanes & 8u ? std::exp(pw[3]) : 0.0f;
+      // alpha = min(0.99, o·exp(power)): minps(x, 0.99) is x < 0.99 ? x : 0.99, like std::min.
+      const __m128 alpha = _mm_min_ps(_mm_mul_ps(opacity, _mm_setr_ps(e0, e1, e2, e3)), max_alpha);
+      const __m128 eval = _mm_and_ps(_mm_castsi128_ps(_mm_load_si128(reinterpret_cast<const __m128i*>(kLaneMasks.m[lanes]))),
+                                     _mm_cmpnlt_ps(alpha, min_alpha));
+      float* T = acc.T + ly * kTile + 4 * k;
+      const __m128 t = _mm_load_ps(T);
+      const __m128 test_t = _mm_mul_ps(t, _mm_sub_ps(one, alpha));
+      // test_t < 1e-4 stops the pixel before this Gaussian; otherwise it blends.
+      const __m128 stop = _mm_and_ps(eval, _mm_cmplt_ps(test_t, min_t));
+      const __m128 blend = _mm_andnot_ps(stop, eval);
+      const std::uint32_t stopped = static_cast<std::uint32_t>(_mm_movemask_ps(stop));
+      if (stopped != 0) {
+        acc.active[ly] &= ~(stopped << (4 * k));
+        remaining -= std::popcount(stopped);
       }
-      acc.cr[p] += red * alpha * t;
-      acc.cg[p] += green * alpha * t;
-      acc.cb[p] += blue * alpha * t;
-      const float weight = alpha * t;
-      acc.dsum[p] += weight * tz;
-      acc.inv[p] += weight / tz;
-      if (acc.fid[p] < 0) acc.fid[p] = id;
-      acc.T[p] = test_t;
+      if (_mm_movemask_ps(blend) == 0) continue;
+      const int p = ly * kTile + 4 * k;
+      _mm_store_ps(acc.cr + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.cr + p), _mm_mul_ps(_mm_mul_ps(red, alpha), t)),
+                                      _mm_load_ps(acc.cr + p)));
+      _mm_store_ps(acc.cg + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.cg + p), _mm_mul_ps(_mm_mul_ps(green, alpha), t)),
+                                      _mm_load_ps(acc.cg + p)));
+      _mm_store_ps(acc.cb + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.cb + p), _mm_mul_ps(_mm_mul_ps(blue, alpha), t)),
+                                      _mm_load_ps(acc.cb + p)));
+      const __m128 weight = _mm_mul_ps(alpha, t);
+      _mm_store_ps(acc.dsum + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.dsum + p), _mm_mul_ps(weight, tz)),
+                                        _mm_load_ps(acc.dsum + p)));
+      _mm_store_ps(acc.inv + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.inv + p), _mm_div_ps(weight, tz)),
+                                       _mm_load_ps(acc.inv + p)));
+      __m128i* fid = reinterpret_cast<__m128i*>(acc.fid + p);
+      const __m128i f = _mm_load_si128(fid);
+      const __m128i set = _mm_and_si128(_mm_castps_si128(blend), _mm_cmplt_epi32(f, no_id));
+      _mm_store_si128(fid, _mm_or_si128(_mm_and_si128(set, id), _mm_andnot_si128(set, f)));
+      _mm_store_ps(T, Select(blend, test_t, t));
     }
   }
 }
