@@ -111,7 +111,7 @@ inline __m128 Select(__m128 mask, __m128 yes, __m128 no) {
 // add/mul/div/min are the same IEEE operations as their scalar forms (no FMA on the baseline ISA,
 // and contraction is off in ISO C++ mode); only exp stays scalar (libm expf, as before), called
 // for the pixels that pass the power tests alone.
-void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining) {
+void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining, std::uint64_t& evaluations) {
   const int lx0 = batch.lx0[g], lx1 = batch.lx1[g];
   const std::uint32_t window = ((2u << lx1) - 1u) & ~((1u << lx0) - 1u);
   const int blk0 = lx0 >> 2, blk1 = lx1 >> 2;
@@ -135,6 +135,7 @@ void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining) {
   for (int ly = batch.ly0[g], ly1 = batch.ly1[g]; ly <= ly1; ++ly) {
     const std::uint32_t bits = acc.active[ly] & window;
     if (bits == 0) continue;
+    evaluations += static_cast<std::uint64_t>(std::popcount(bits));
     const float dy = v - acc.rowy[ly];
     const __m128 cdy = _mm_set1_ps(c * dy * dy), vdy = _mm_set1_ps(dy);
     for (int k = blk0; k <= blk1; ++k) {
@@ -206,7 +207,7 @@ void AllocateOutput(int width, int height, std::size_t num_gaussians, bool front
   out.radii.assign(num_gaussians, 0);
 }
 
-void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
+std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
                    const Eigen::Vector3f& background, bool front_id, RenderOutput& out) {
   const int W = frame.view.width, H = frame.view.height;
   const int x0 = (tile % frame.view.grid_x) * kTile, y0 = (tile / frame.view.grid_x) * kTile;
@@ -223,12 +224,13 @@ void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
   }
   int remaining = w * h;
   Batch batch;
+  std::uint64_t evaluations = 0;
   std::uint32_t k = frame.tile_offsets[tile];
   const std::uint32_t end = frame.tile_offsets[tile + 1];
   while (k < end && remaining > 0) {
     int count = 0;
     k = Gather(frame, k, end, skip, x0, y0, w, h, batch, count);
-    for (int g = 0; g < count && remaining > 0; ++g) Blend(batch, g, acc, remaining);
+    for (int g = 0; g < count && remaining > 0; ++g) Blend(batch, g, acc, remaining, evaluations);
   }
   for (int ly = 0; ly < h; ++ly)
     for (int lx = 0; lx < w; ++lx) {
@@ -243,6 +245,7 @@ void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
       out.invdepth[idx] = acc.inv[p];
       if (front_id) out.front_id[idx] = acc.fid[p];
     }
+  return evaluations;
 }
 
 }  // namespace al::render_internal

@@ -79,8 +79,8 @@ struct Frame {
 void BuildFrame(Frame& frame, int threads);
 
 // Composites one tile into out (RASTERIZER.md §5, §7), src/render/composite.cpp. skip (by rank)
-// may be null.
-void CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
+// may be null. Returns the number of (Gaussian, pixel) power evaluations.
+std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
                    const Eigen::Vector3f& background, bool front_id, RenderOutput& out);
 
 // Allocates the image buffers of out.

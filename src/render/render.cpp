@@ -22,10 +22,13 @@ namespace {
 void CompositeTiles(const Frame& frame, const std::vector<int>* tiles, const std::uint8_t* skip,
                     const RenderOptions& options, RenderOutput& out) {
   const int total = tiles ? static_cast<int>(tiles->size()) : frame.view.grid_x * frame.view.grid_y;
+  std::uint64_t evaluations = 0;
   // Tile costs vary by orders of magnitude (list lengths), hence the dynamic schedule.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(ThreadCount(options))
+#pragma omp parallel for schedule(dynamic, 1) num_threads(ThreadCount(options)) reduction(+ : evaluations)
   for (int k = 0; k < total; ++k)
-    CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, options.background, options.compute_front_id, out);
+    evaluations +=
+        CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, options.background, options.compute_front_id, out);
+  out.pixel_evaluations = evaluations;
 }
 
 void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& options,

@@ -238,6 +238,41 @@ TEST(RenderInvariants, ThreadCountDoesNotChangeResults) {
   ExpectIdenticalRenders(IncrementalRenderer(s, cam, one).After(removed), IncrementalRenderer(s, cam, two).After(removed));
 }
 
+// Enough Gaussians that binning splits its work into several chunks (src/render/binning.cpp),
+// with many exactly equal depths, so the stable (tz, index) order across chunk boundaries is
+// what decides the result: every thread count must give the reference's pixels and lists.
+TEST(RenderInvariants, ChunkedBinningKeepsDepthTiesInIndexOrder) {
+  Scene s = RandomScene(20000, 8);
+  for (std::size_t i = 0; i < s.size(); ++i)
+    if (i % 3 != 0) s.means(i, 2) = 2.0f + 0.5f * static_cast<float>(i % 4);  // 4 shared depths
+  const Camera cam = MakeCamera(96, 64, 60);
+  RenderOptions one, three;
+  one.num_threads = 1;
+  three.num_threads = 3;
+  const RenderOutput a = Render(s, cam, one), b = Render(s, cam, three);
+  ASSERT_GT(a.visible_gaussians, 9000u);  // > 2 chunks of 4096
+  ExpectIdenticalRenders(a, b);
+  EXPECT_EQ(a.tile_entries, b.tile_entries);
+  EXPECT_EQ(a.pixel_evaluations, b.pixel_evaluations);
+  ExpectIdenticalRenders(b, ReferenceRender(s, cam, three));
+}
+
+// The compositing work counter: positive, bounded by the list entries times the tile size, and
+// smaller for an incremental render that re-composites a few tiles.
+TEST(RenderInvariants, PixelEvaluationCount) {
+  const Scene s = RandomScene(800, 9);
+  const Camera cam = OffsetCamera();
+  IncrementalRenderer inc(s, cam);
+  const RenderOutput& full = inc.before();
+  EXPECT_GT(full.pixel_evaluations, 0u);
+  EXPECT_LE(full.pixel_evaluations, full.tile_entries * 256);
+  std::vector<bool> removed(s.size(), false);
+  removed[0] = true;
+  const RenderOutput after = inc.After(removed);
+  EXPECT_LT(after.pixel_evaluations, full.pixel_evaluations);
+  EXPECT_EQ(inc.After(std::vector<bool>(s.size(), false)).pixel_evaluations, 0u);
+}
+
 TEST(RenderInvariants, ExcludedGaussiansHaveZeroRadius) {
   const Scene s = RandomScene(300, 5);
   const Camera cam = OffsetCamera();

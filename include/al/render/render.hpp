@@ -34,6 +34,9 @@ struct RenderOutput {
   std::size_t excluded_degenerate = 0;
   std::size_t tiles_total = 0, tiles_rendered = 0, tiles_copied = 0;
   std::size_t tile_entries = 0;     // (Gaussian, tile) pairs in the tile lists
+  // (Gaussian, pixel) pairs whose power was evaluated in the composited tiles: pixels inside a
+  // Gaussian's window that were still blending (the compositing work; cf. tile_entries · 256).
+  std::size_t pixel_evaluations = 0;
   double seconds_preprocess = 0, seconds_binning = 0, seconds_composite = 0;
 };
 
