@@ -1,8 +1,5 @@
 // RunEval (al/eval/eval.hpp): per view, object mask → "before" render → incremental renders of
 // each column → metrics → pictures; then summaries, report.json, metrics.csv and the tables.
-#include <omp.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <map>
@@ -16,6 +13,9 @@
 #include "al/core/timer.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/images.hpp"
+#include "al/eval/output.hpp"
+#include "al/eval/report_json.hpp"
+#include "al/eval/segmentations.hpp"
 #include "al/fixtures/synth.hpp"
 #include "al/io/image.hpp"
 #include "al/metrics/collateral.hpp"
@@ -36,146 +36,8 @@ bool IsFile(const fs::path& p) {
   return fs::is_regular_file(p, ec);
 }
 
-// File-name-safe view name (camera names may hold path separators).
-std::string SafeName(std::string name) {
-  for (char& ch : name)
-    if (ch == '/' || ch == '\\' || ch == ':') ch = '_';
-  return name.empty() ? "view" : name;
-}
-
-// Detector mask of a view: <dir>/X.png, else GroundedSAM <dir>/X.json (METRICS.md §1);
-// false when absent (a missing detection is an empty mask, METRICS.md §2).
-bool LoadDetectorMask(const std::string& dir, const std::string& stem, const std::string& seg_class,
-                      metrics::Gray8& out) {
-  const fs::path png = fs::path(dir) / (stem + ".png"), js = fs::path(dir) / (stem + ".json");
-  if (IsFile(png)) {
-    out = metrics::LoadGray8Png(png.string());
-    return true;
-  }
-  if (IsFile(js)) {
-    out = metrics::LoadGroundedSamJson(js.string(), seg_class).mask;
-    return true;
-  }
-  return false;
-}
-
-// SAM segment lists of one folder: <dir>/X.json per view, or the legacy merged.json
-// {image_name: [segments]} (parsed once, on first use).
-class SamLists {
- public:
-  explicit SamLists(std::string dir) : dir_(std::move(dir)) {}
-  // false when the folder holds no list for the view.
-  bool Load(const std::string& stem, std::vector<metrics::Mask>& out) {
-    const fs::path file = fs::path(dir_) / (stem + ".json");
-    if (IsFile(file)) {
-      auto lists = metrics::LoadSamJson(file.string());
-      if (lists.count("")) out = std::move(lists[""]);
-      else if (lists.count(stem)) out = std::move(lists[stem]);
-      else throw FileError(file.string(), "holds no segment list for " + stem);
-      return true;
-    }
-    if (!merged_loaded_) {
-      merged_loaded_ = true;
-      const fs::path merged = fs::path(dir_) / "merged.json";
-      if (IsFile(merged)) merged_ = metrics::LoadSamJson(merged.string());
-    }
-    const auto it = merged_.find(stem);
-    if (it == merged_.end()) return false;
-    out = it->second;
-    return true;
-  }
-
- private:
-  std::string dir_;
-  bool merged_loaded_ = false;
-  std::map<std::string, std::vector<metrics::Mask>> merged_;
-};
-
 metrics::DepthRender ToDepthRender(const RenderOutput& r) { return {r.width, r.height, r.depth, r.alpha}; }
 metrics::RgbImage ToRgbImage(const RenderOutput& r) { return {r.width, r.height, r.rgb}; }
-
-json MeanStdJson(const metrics::MeanStd& m) { return {{"mean", m.mean}, {"std", m.std}, {"count", m.count}}; }
-
-json DepthSummaryJson(const metrics::DepthSummary& s, const std::string& mode) {
-  return {{"mode", mode},
-          {"n_images", s.images},
-          {"mean_acc_delta_depth", s.acc_delta_depth.mean},
-          {"std_acc_delta_depth", s.acc_delta_depth.std},
-          {"mean_iou", s.iou.mean},
-          {"std_iou", s.iou.std},
-          {"collateral_depth", MeanStdJson(s.collateral_depth)},
-          {"constant_masks", s.constant_masks}};
-}
-
-json SemanticSummaryJson(const metrics::SemanticSummary& s) {
-  json seg = json::object(), table = json::object();
-  auto key = [](double t) {
-    std::ostringstream o;
-    o << t;
-    return o.str();
-  };
-  for (const auto& t : s.acc_seg) seg[key(t.threshold)] = t.value;
-  for (const auto& t : s.acc_iou_post_above) table[key(t.threshold)] = t.value;
-  return {{"n_images", s.images},          {"mean_iou_before", s.iou_before}, {"mean_iou_after", s.iou_after},
-          {"mean_iou_drop", s.iou_drop},    {"mean_acc_before", s.acc_before}, {"mean_acc_after", s.acc_after},
-          {"mean_acc_diff", s.acc_diff},    {"acc_seg", seg},                  {"acc_iou_post_above_percent", table},
-          {"missing_before", s.missing_before}, {"missing_after", s.missing_after}};
-}
-
-// Outputs are written under a staging folder beside out_dir and moved in only when the whole run
-// succeeded, so a failure (e.g. a corrupt mask in view 37) leaves no partial evaluation behind.
-class Staging {
- public:
-  explicit Staging(const fs::path& out) : out_(out) {
-    const fs::path abs = fs::absolute(out).lexically_normal();
-    const fs::path parent = abs.has_filename() ? abs.parent_path() : abs.parent_path().parent_path();
-    const std::string name = abs.has_filename() ? abs.filename().string() : abs.parent_path().filename().string();
-    EnsureDirectory(parent);
-    dir_ = parent / ("." + name + ".eval-tmp-" + std::to_string(::getpid()));
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-    EnsureDirectory(dir_);
-  }
-  ~Staging() {
-    std::error_code ec;
-    if (!committed_) fs::remove_all(dir_, ec);
-  }
-  const fs::path& dir() const { return dir_; }
-  // Moves every top-level entry into out (replacing same-named entries), then drops the staging.
-  void Commit() {
-    EnsureDirectory(out_);
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator(dir_)) {
-      const fs::path target = out_ / entry.path().filename();
-      if (fs::exists(target, ec)) fs::remove_all(target, ec);
-      fs::rename(entry.path(), target, ec);
-      if (ec) throw FileError(target.string(), "cannot move evaluation output into place: " + ec.message());
-    }
-    fs::remove_all(dir_, ec);
-    committed_ = true;
-  }
-
- private:
-  fs::path out_, dir_;
-  bool committed_ = false;
-};
-
-// Writes the PNGs on all threads; the first error (by job order) is rethrown after the loop
-// (exceptions must not leave an OpenMP region).
-void WritePngsParallel(const std::vector<std::pair<fs::path, Image8>>& jobs, int num_threads) {
-  std::vector<std::string> errors(jobs.size());
-  const int threads = num_threads > 0 ? num_threads : omp_get_max_threads();
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-  for (std::ptrdiff_t i = 0; i < std::ptrdiff_t(jobs.size()); ++i) {
-    try {
-      WritePng8(jobs[std::size_t(i)].first.string(), jobs[std::size_t(i)].second);
-    } catch (const std::exception& e) {
-      errors[std::size_t(i)] = e.what();
-    }
-  }
-  for (const auto& e : errors)
-    if (!e.empty()) throw Error(e);
-}
 
 void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
               const ObjectSource& object, const EvalOptions& o) {
@@ -235,7 +97,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
                                : "no SAM segment lists of this column's renders (--sam-after / --sam-refined)"});
   }
 
-  Staging staging(o.out_dir);
+  StagedOutput staging(o.out_dir);
   const fs::path out = staging.dir();
   const fs::path images = out / "images";
   if (o.write_images) EnsureDirectory(images);
@@ -438,24 +300,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   // report.json, metrics.csv, tables.
   t.Reset();
   json report = report_in ? *report_in : NewReport("eval");
-  json& params = report["params"];
-  if (!params.is_object()) params = json::object();
-  params["row_name"] = o.row_name;
-  params["columns"] = json::array();
-  for (const auto& c : columns)
-    params["columns"].push_back({{"name", c.name}, {"label", c.label}, {"seg_dir", c.seg_dir}, {"sam_dir", c.sam_dir}});
-  params["seg_before"] = o.seg_before_dir;
-  params["sam_before"] = o.sam_before_dir;
-  params["seg_class"] = o.seg_class;
-  params["object_masks"] = object.masks_dir.empty() ? json("rendered from labels (share >= 0.5)") : json(object.masks_dir);
-  if (object.masks_dir.empty()) params["object_id"] = object.object_id;
-  params["background"] = {o.render.background.x(), o.render.background.y(), o.render.background.z()};
-  params["max_sh_degree"] = o.render.max_sh_degree;
-  params["ght"] = {{"nu", o.ght.nu}, {"tau", o.ght.tau}, {"kappa", o.ght.kappa}, {"omega", o.ght.omega}};
-  params["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
-  params["alpha_hit"] = o.float_depth.alpha_hit;
-  params["sam_min_iou"] = o.sim_sam.min_object_iou;
-  params["export_renders"] = o.export_renders;
+  AddEvalParams(report, columns, object, o);
 
   report["counts"] = {{"num_gaussians", n},
                       {"views", cameras.size()},
@@ -465,23 +310,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
                       {"png_files", png_writes}};
   json cols = json::array();
   for (std::size_t c = 0; c < nc; ++c) {
-    const ColumnSummary& s = r.summaries[c];
-    json j = {{"name", columns[c].name},
-              {"label", columns[c].label},
-              {"num_removed", s.num_removed},
-              {"depth", DepthSummaryJson(s.depth8, "8bit")},
-              {"depth_float", DepthSummaryJson(s.depth_float, "float")},
-              {"collateral_psnr", {{"psnr", MeanStdJson(s.collateral_psnr)}, {"identical", s.identical}}}};
-    j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
-    if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);
-    if (s.sim_sam)
-      j["sim_sam"] = {{"n_scored", s.sim_sam->count},
-                      {"mean_sim_sam", s.sim_sam->mean},
-                      {"std_sim_sam", s.sim_sam->std},
-                      {"dropped_empty_side", s.sim_sam_dropped},
-                      {"missing_lists", s.sim_sam_missing},
-                      {"direction", "SAM segments of the before render vs this column's render: lower = better "
-                                    "removal (paper)"}};
+    json j = ColumnSummaryJson(columns[c], r.summaries[c], o);
     if (!object.labels.empty() && object.labels.size() == n)
       j["gt"] = fixtures::ScoreRemoval(columns[c].removed, object.labels, object.object_id,
                                        std::vector<float>(scene.opacity_logits.data(),

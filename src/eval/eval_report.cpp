@@ -1,0 +1,85 @@
+#include "al/eval/report_json.hpp"
+
+#include <sstream>
+
+namespace al::eval {
+
+using json = nlohmann::json;
+
+namespace {
+
+json MeanStdJson(const metrics::MeanStd& m) { return {{"mean", m.mean}, {"std", m.std}, {"count", m.count}}; }
+
+json DepthSummaryJson(const metrics::DepthSummary& s, const std::string& mode) {
+  return {{"mode", mode},
+          {"n_images", s.images},
+          {"mean_acc_delta_depth", s.acc_delta_depth.mean},
+          {"std_acc_delta_depth", s.acc_delta_depth.std},
+          {"mean_iou", s.iou.mean},
+          {"std_iou", s.iou.std},
+          {"collateral_depth", MeanStdJson(s.collateral_depth)},
+          {"constant_masks", s.constant_masks}};
+}
+
+json SemanticSummaryJson(const metrics::SemanticSummary& s) {
+  json seg = json::object(), table = json::object();
+  auto key = [](double t) {
+    std::ostringstream o;
+    o << t;
+    return o.str();
+  };
+  for (const auto& t : s.acc_seg) seg[key(t.threshold)] = t.value;
+  for (const auto& t : s.acc_iou_post_above) table[key(t.threshold)] = t.value;
+  return {{"n_images", s.images},          {"mean_iou_before", s.iou_before}, {"mean_iou_after", s.iou_after},
+          {"mean_iou_drop", s.iou_drop},    {"mean_acc_before", s.acc_before}, {"mean_acc_after", s.acc_after},
+          {"mean_acc_diff", s.acc_diff},    {"acc_seg", seg},                  {"acc_iou_post_above_percent", table},
+          {"missing_before", s.missing_before}, {"missing_after", s.missing_after}};
+}
+
+
+}  // namespace
+
+void AddEvalParams(json& report, const std::vector<EvalColumn>& columns, const ObjectSource& object,
+                   const EvalOptions& o) {
+  json& params = report["params"];
+  if (!params.is_object()) params = json::object();
+  params["row_name"] = o.row_name;
+  params["columns"] = json::array();
+  for (const auto& c : columns)
+    params["columns"].push_back({{"name", c.name}, {"label", c.label}, {"seg_dir", c.seg_dir}, {"sam_dir", c.sam_dir}});
+  params["seg_before"] = o.seg_before_dir;
+  params["sam_before"] = o.sam_before_dir;
+  params["seg_class"] = o.seg_class;
+  params["object_masks"] = object.masks_dir.empty() ? json("rendered from labels (share >= 0.5)") : json(object.masks_dir);
+  if (object.masks_dir.empty()) params["object_id"] = object.object_id;
+  params["background"] = {o.render.background.x(), o.render.background.y(), o.render.background.z()};
+  params["max_sh_degree"] = o.render.max_sh_degree;
+  params["ght"] = {{"nu", o.ght.nu}, {"tau", o.ght.tau}, {"kappa", o.ght.kappa}, {"omega", o.ght.omega}};
+  params["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
+  params["alpha_hit"] = o.float_depth.alpha_hit;
+  params["sam_min_iou"] = o.sim_sam.min_object_iou;
+  params["export_renders"] = o.export_renders;
+  params["write_images"] = o.write_images;
+}
+
+json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const EvalOptions& o) {
+  json j = {{"name", column.name},
+            {"label", column.label},
+            {"num_removed", s.num_removed},
+            {"depth", DepthSummaryJson(s.depth8, "8bit")},
+            {"depth_float", DepthSummaryJson(s.depth_float, "float")},
+            {"collateral_psnr", {{"psnr", MeanStdJson(s.collateral_psnr)}, {"identical", s.identical}}}};
+  j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
+  if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);
+  if (s.sim_sam)
+    j["sim_sam"] = {{"n_scored", s.sim_sam->count},
+                    {"mean_sim_sam", s.sim_sam->mean},
+                    {"std_sim_sam", s.sim_sam->std},
+                    {"dropped_empty_side", s.sim_sam_dropped},
+                    {"missing_lists", s.sim_sam_missing},
+                    {"direction", "SAM segments of the before render vs this column's render: lower = better "
+                                  "removal (paper)"}};
+  return j;
+}
+
+}  // namespace al::eval
