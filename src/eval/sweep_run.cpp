@@ -107,11 +107,18 @@ SweepResult RunSweep(const SweepOptions& o) {
     fs::resize_file(jsonl, existing.good_bytes);
     warnings.push_back("results.jsonl ended in a truncated line (a killed run); it was dropped and that point re-run");
   }
+  bool needs_newline = false;  // a complete last record without its newline (kept): end it first
+  if (!existing.truncated_tail && existing.good_bytes > 0) {
+    std::ifstream last(jsonl, std::ios::binary);
+    last.seekg(static_cast<std::streamoff>(existing.good_bytes) - 1);
+    needs_newline = last.get() != '\n';
+  }
   std::set<std::string> done;
   for (const auto& r : existing.records) done.insert(r["id"].get<std::string>());
 
   std::ofstream out(jsonl, std::ios::app | std::ios::binary);
   if (!out) throw FileError(jsonl.string(), "cannot open for appending");
+  if (needs_newline) out << '\n' << std::flush;
 
   // Per-scene and per-graph state, rebuilt only when the scene or a graph axis changes.
   std::optional<RefineInputs> inputs;

@@ -23,6 +23,14 @@ open(p, 'wb').write(b[:last + (len(b) - last) // 2])   # half of the last line, 
 PY
 "$BIN" sweep "${ARGS[@]}" --out "$T/killed" >/dev/null 2>"$T/killed.err"
 "$BIN" sweep "${ARGS[@]}" --quiet --out "$T/full" >/dev/null   # nothing left to do
+# A complete last record without its newline is kept, and the next append starts a new line.
+cp -r "$T/full" "$T/nonl"
+python3 - "$T/nonl/results.jsonl" <<'PY'
+import sys
+p = sys.argv[1]; lines = open(p, 'rb').read().rstrip(b'\n').split(b'\n')
+open(p, 'wb').write(b'\n'.join(lines[:-2] + [lines[-1]]))   # drop one record, no final newline
+PY
+"$BIN" sweep "${ARGS[@]}" --quiet --out "$T/nonl" >/dev/null
 
 python3 - "$T" <<'PY'
 import json, sys, os
@@ -61,6 +69,10 @@ if rk['counts']['ran'] != 1 or len(killed) != 16: fail('resume after a truncated
 if sorted(json.dumps(strip(r), sort_keys=True) for r in killed) != sorted(json.dumps(v, sort_keys=True) for v in by_id.values()):
     fail('resumed records differ from the whole run')
 if not any('truncated' in w for w in rk['warnings']): fail('no warning about the truncated line')
+nonl = records('nonl')
+rn = json.load(open(os.path.join(T, 'nonl', 'report.json')))
+if rn['counts']['ran'] != 1 or len(nonl) != 16 or sorted(r['id'] for r in nonl) != sorted(by_id):
+    fail('resume after a last line without newline: %s' % rn['counts'])
 # what each record carries
 r = full[0]
 for key in ('params', 'graph', 'solver', 'decision', 'counts', 'gt', 'seconds', 'status'):
