@@ -9,6 +9,8 @@
 #include <set>
 
 #include "al/core/error.hpp"
+#include "al/fixtures/synth.hpp"
+#include "al/graph/graph.hpp"
 #include "test_data.hpp"
 
 namespace al {
@@ -149,6 +151,39 @@ TEST(SweepManifest, ResolvesRelativePathsAndRejectsBadEntries) {
     EXPECT_THROW(ReadSweepManifest((dir / "bad.json").string(), Base()), Error) << bad;
   }
   EXPECT_THROW(ReadSweepManifest((dir / "none.json").string(), Base()), Error);
+}
+
+// The sweep builds each graph at λ = 1 and rescales the weights per λ instead of rebuilding; that
+// is only valid if λ changes nothing but the weights, by exactly the factor.
+TEST(SweepLambda, RescalingEqualsRebuilding) {
+  fixtures::SynthOptions so;
+  so.preset = "counter";
+  so.num_gaussians = 6000;
+  so.num_views = 1;
+  so.width = 16;
+  so.height = 12;
+  so.run_simulators = false;
+  so.compute_masks = false;
+  const fixtures::SynthScene synth = fixtures::Synthesize(so);
+  std::vector<bool> removed(synth.labels.size());
+  for (std::size_t i = 0; i < removed.size(); ++i) removed[i] = synth.labels[i] == synth.target_id && i % 3 != 0;
+  GraphOptions go;
+  go.lambda = 1.0;
+  const GraphResult unit = BuildRefineGraph(synth.scene, synth.scene.features, removed, go);
+  ASSERT_GT(unit.stats.edges, 100u);
+  for (double lambda : {0.5, 2.0, 0.3, 1.7}) {
+    go.lambda = lambda;
+    const GraphResult g = BuildRefineGraph(synth.scene, synth.scene.features, removed, go);
+    ASSERT_EQ(g.problem.first_edge, unit.problem.first_edge) << lambda;
+    ASSERT_EQ(g.problem.adj_vertices, unit.problem.adj_vertices) << lambda;
+    EXPECT_EQ(g.stats.sigma_x, unit.stats.sigma_x);
+    const bool power_of_two = lambda == 0.5 || lambda == 2.0;
+    for (std::size_t e = 0; e < g.problem.edge_weights.size(); ++e) {
+      const double rescaled = unit.problem.edge_weights[e] * lambda;
+      if (power_of_two) ASSERT_EQ(g.problem.edge_weights[e], rescaled) << lambda << " edge " << e;
+      else ASSERT_NEAR(g.problem.edge_weights[e], rescaled, 4e-16 * std::abs(rescaled)) << lambda << " edge " << e;
+    }
+  }
 }
 
 }  // namespace
