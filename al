@@ -33,6 +33,7 @@ case "$cmd" in
     echo "usage: ./al demo | test | build | bench [--quick]" >&2
     echo "  demo   install deps, build, run the main job on a generated scene" >&2
     echo "  test   install deps, build, run every test (ctest)" >&2
+    echo "  bench  install deps, build, run every benchmark (bench/run; --quick < 5 min) -> docs/benchmarks.md" >&2
     exit 1
     ;;
 esac

@@ -50,24 +50,61 @@ double ToDouble(const std::string& s, const std::string& what) {
   throw al::Error("bench_scale_collect: " + what + " is not a number: '" + s + "'", al::ExitCode::kUsage);
 }
 
-// RSS samples "seconds KiB" per line -> [[seconds, MiB], ...], thinned to at most max_points
-// (always keeping the peak sample, the one that matters).
-json RssTimeline(const fs::path& path, double* peak_mib, std::size_t max_points = 150) {
+using Samples = std::vector<std::pair<double, double>>;  // (seconds since start, MiB)
+
+// RSS samples "seconds KiB" per line, as bench/scale's sampler writes them.
+Samples ReadSamples(const fs::path& path) {
   std::ifstream in(path);
-  std::vector<std::pair<double, double>> s;
+  Samples s;
   double t = 0, kib = 0;
   while (in >> t >> kib) s.emplace_back(t, kib / 1024.0);
-  *peak_mib = NAN;
+  return s;
+}
+
+// [[seconds, MiB], ...] thinned to at most max_points, always keeping the peak sample.
+json Thin(const Samples& s, std::size_t max_points = 150) {
   json out = json::array();
   if (s.empty()) return out;
   const auto peak = std::max_element(s.begin(), s.end(),
                                      [](const auto& a, const auto& b) { return a.second < b.second; });
-  *peak_mib = peak->second;
   const std::size_t step = std::max<std::size_t>(1, (s.size() + max_points - 1) / max_points);
   const std::size_t peak_index = static_cast<std::size_t>(peak - s.begin());
   for (std::size_t i = 0; i < s.size(); ++i)
     if (i % step == 0 || i == peak_index || i + 1 == s.size())
       out.push_back({std::round(s[i].first * 100) / 100, std::round(s[i].second * 10) / 10});
+  return out;
+}
+
+// Where the memory goes: the stages of a command run one after the other in this order (the
+// report's timings_s is an unordered JSON object), so cumulative stage times cut the sampled RSS
+// timeline into windows; each stage gets the highest RSS sampled in its window. Commands whose
+// stages interleave (eval renders, scores and writes per view) are not split.
+const std::map<std::string, std::vector<std::string>> kStageOrder = {
+    {"synth", {"generate", "masks", "simulate", "write"}},
+    {"refine", {"load_scene", "load_removed", "load_labels", "graph", "solve", "decide",
+                "ground_truth", "write"}}};
+
+json RssByStage(const std::string& command, const json& timings, const Samples& timeline) {
+  json out = json::array();  // [[stage, MiB], ...] in pipeline order
+  const auto order = kStageOrder.find(command);
+  if (order == kStageOrder.end() || !timings.is_object() || timeline.empty()) return out;
+  // The process starts slightly after the sampler's t = 0; the remainder of the wall time that the
+  // stages do not account for is start-up, so windows are shifted by it.
+  double known = 0;
+  for (const auto& st : order->second)
+    if (timings.contains(st) && timings[st].is_number()) known += timings[st].get<double>();
+  const double total = timings.contains("total") && timings["total"].is_number() ? timings["total"].get<double>() : known;
+  const double last_t = timeline.back().first;
+  double t = std::max(0.0, last_t - total);
+  for (const auto& st : order->second) {
+    if (!timings.contains(st) || !timings[st].is_number()) continue;
+    const double end = t + timings[st].get<double>();
+    double peak = NAN;
+    for (const auto& [pt, mib] : timeline)
+      if (pt >= t && pt <= end + 0.25) peak = std::isnan(peak) ? mib : std::max(peak, mib);
+    if (std::isfinite(peak)) out.push_back({st, peak});
+    t = end;
+  }
   return out;
 }
 
@@ -86,10 +123,13 @@ json CollectRun(const std::map<std::string, std::string>& f) {
   if (us != std::string::npos) r["solver"] = name.substr(us + 1);
   r["exit_code"] = static_cast<int>(ToDouble(get("exit"), "exit"));
   r["wall_s"] = ToDouble(get("wall_s"), "wall_s");
-  if (auto it = f.find("rss"); it != f.end() && fs::exists(it->second)) {
-    double sampled_peak = NAN;
-    r["rss_timeline_s_mib"] = RssTimeline(it->second, &sampled_peak);
-    if (std::isfinite(sampled_peak)) r["sampled_peak_rss_mib"] = sampled_peak;
+  Samples samples;
+  if (auto it = f.find("rss"); it != f.end() && fs::exists(it->second)) samples = ReadSamples(it->second);
+  if (!samples.empty()) {
+    r["rss_timeline_s_mib"] = Thin(samples);
+    r["sampled_peak_rss_mib"] = std::max_element(samples.begin(), samples.end(), [](const auto& a, const auto& b) {
+                                  return a.second < b.second;
+                                })->second;
   }
   const fs::path report = get("report");
   if (fs::exists(report)) {
@@ -104,6 +144,8 @@ json CollectRun(const std::map<std::string, std::string>& f) {
     for (const char* key : {"status", "peak_rss_mib", "timings_s", "counts", "graph"})
       if (rep.contains(key)) r[key] = rep[key];
     if (rep.contains("solver") && rep["solver"].is_object()) r["solver_result"] = rep["solver"];
+    if (!samples.empty() && r.contains("timings_s"))
+      r["rss_by_stage_mib"] = RssByStage(r["stage"], r["timings_s"], samples);
   } else {
     r["status"] = "no report.json";
   }

@@ -367,18 +367,28 @@ std::vector<Target> ComputeTargets(const Files& files, const json& scale) {
     out.push_back(t);
   }
 
-  // Evaluation: per-view time from eval_bench if it reports a view count, extrapolated to 100.
+  // Evaluation: per-view time of eval_bench's BM_Eval (or the first case with a "views" counter),
+  // extrapolated to 100 views; baseline: BM_FullRenders (plain full renders, same scene and views).
   bool eval_done = false;
   if (auto it = files.find("eval_bench"); it != files.end()) {
-    for (const Case& c : it->second.cases) {
-      if (c.error) continue;
-      const auto views = c.Counter("views");
+    std::vector<const Case*> order;
+    if (const Case* e = it->second.Find("BM_Eval"); e && !e->error) order.push_back(e);
+    for (const Case& c : it->second.cases)
+      if (!c.error) order.push_back(&c);
+    for (const Case* c : order) {
+      const auto views = c->Counter("views");
       if (!views || *views <= 0) continue;
       Target t;
-      const double per_view = c.MedianMs() / 1e3 / *views;
-      t.what = "Evaluation (" + c.name + ", " + Fmt(*views) + " views" +
-               (c.Counter("gaussians") ? ", " + Fmt(*c.Counter("gaussians") / 1e6, 2) + "M Gaussians" : "") + ")";
-      t.measured = Fmt(per_view) + " s per view → " + Fmt(100 * per_view) + " s for 100 views";
+      const double per_view = c->MedianMs() / 1e3 / *views;
+      t.what = "Evaluation (" + c->name + ", " + Fmt(*views) + " views" +
+               (c->Counter("gaussians") ? ", " + Fmt(*c->Counter("gaussians") / 1e6, 2) + "M Gaussians" : "") + ")";
+      t.measured = Fmt(per_view) + " s per view → " + Fmt(100 * per_view) + " s for 100 views" +
+                   (*views == 100 ? "" : " (extrapolated)");
+      if (const Case* full = Lookup(files, "eval_bench", "BM_FullRenders"); full && full != c)
+        if (auto fpv = full->Counter("seconds_per_view")) {
+          t.baseline = "full renders only: " + Fmt(*fpv) + " s per view";
+          t.ratio = Fmt(per_view / *fpv) + "× the full-render time";
+        }
       t.target = "100 views of 1M < 120 s";
       t.met = 100 * per_view < 120;
       t.headroom = 100 * per_view / 120;
@@ -590,8 +600,9 @@ void ScaleSection(std::ostream& md, const json& scale, const std::string& chart)
   if (scale.contains("machine")) md << "Machine: " << scale["machine"].get<std::string>() << ".\n";
   md << "Scene file: " << Fmt(scale.value("scene_file_mib", NAN)) << " MiB (`"
      << scale.value("synth_command", std::string()) << "`).\n\n";
-  md << "| stage | exit | wall s | peak RSS MiB | RSS / file | seconds per stage (report.json timings_s) |\n"
-     << "|---|---|---|---|---|---|\n";
+  md << "| command | exit | wall s | peak RSS MiB | RSS / file | seconds per stage (report.json timings_s) | "
+        "highest sampled RSS per stage, MiB |\n"
+     << "|---|---|---|---|---|---|---|\n";
   const double file_mib = scale.value("scene_file_mib", NAN);
   for (const json& r : scale.value("runs", json::array())) {
     std::string label = r.value("stage", std::string("?"));
@@ -600,9 +611,15 @@ void ScaleSection(std::ostream& md, const json& scale, const std::string& chart)
     const json ts = r.value("timings_s", json::object());
     for (const auto& [k, v] : ts.items())
       if (v.is_number()) stages += (stages.empty() ? "" : ", ") + k + " " + Fmt(v.get<double>());
+    // [[stage, MiB], ...] in pipeline order (bench_scale_collect; only sequential commands).
+    std::string by_stage;
+    for (const json& p : r.value("rss_by_stage_mib", json::array()))
+      if (p.is_array() && p.size() == 2 && p[1].is_number())
+        by_stage += (by_stage.empty() ? "" : ", ") + p[0].get<std::string>() + " " + Fmt(p[1].get<double>());
     const double rss = r.value("peak_rss_mib", NAN);
     md << "| " << label << " | " << r.value("exit_code", -1) << " | " << Fmt(r.value("wall_s", NAN)) << " | "
-       << Fmt(rss) << " | " << Fmt(rss / file_mib) << " | " << (stages.empty() ? "–" : stages) << " |\n";
+       << Fmt(rss) << " | " << Fmt(rss / file_mib) << " | " << (stages.empty() ? "–" : stages) << " | "
+       << (by_stage.empty() ? "–" : by_stage) << " |\n";
   }
   for (const json& note : scale.value("notes", json::array())) md << "\n- " << note.get<std::string>();
   md << "\n\n";
@@ -678,7 +695,11 @@ int Main(int argc, char** argv) {
       md << "**Failed** in this run (exit code " << r.value("exit_code", -1) << "); no results.\n\n";
       continue;
     }
-    md << "Run time " << r.value("seconds", 0) << " s. Source: `bench/" << stem << ".cpp`, results: `bench/results/"
+    std::string load;
+    if (const json& ctx = it->second.context; ctx.contains("load_avg") && ctx["load_avg"].is_array() &&
+                                              !ctx["load_avg"].empty() && ctx["load_avg"][0].is_number())
+      load = " (load average " + Fmt(ctx["load_avg"][0].get<double>(), 2) + " at its start)";
+    md << "Run time " << r.value("seconds", 0) << " s" << load << ". Source: `bench/" << stem << ".cpp`, results: `bench/results/"
        << stem << ".json`.\n\n"
        << "| case | median | min | max | cv | reps | counters (median) |\n|---|---|---|---|---|---|---|\n";
     for (const Case& c : it->second.cases) {
