@@ -72,33 +72,6 @@ void SortByDepth(std::vector<std::uint64_t>& keys, int threads) {
   }
 }
 
-// Keys (tz bits << 32 | scene index) of the visible Gaussians, in scene-index order.
-std::vector<std::uint64_t> DepthKeys(const Projected& p, int threads) {
-  const std::size_t n = p.status.size();
-  const int chunks = ChunkCount(n, threads);
-  std::vector<std::size_t> start(static_cast<std::size_t>(chunks) + 1, 0);
-#pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
-  for (int c = 0; c < chunks; ++c) {
-    std::size_t count = 0;
-    for (std::size_t i = ChunkBegin(n, chunks, c), e = ChunkBegin(n, chunks, c + 1); i < e; ++i)
-      count += p.status[i] == kVisible;
-    start[c + 1] = count;
-  }
-  for (int c = 0; c < chunks; ++c) start[c + 1] += start[c];
-  std::vector<std::uint64_t> keys(start[chunks]);
-#pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
-  for (int c = 0; c < chunks; ++c) {
-    std::size_t out = start[c];
-    for (std::size_t i = ChunkBegin(n, chunks, c), e = ChunkBegin(n, chunks, c + 1); i < e; ++i) {
-      if (p.status[i] != kVisible) continue;
-      std::uint32_t bits;
-      std::memcpy(&bits, &p.tz[i], sizeof bits);
-      keys[out++] = (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(i);
-    }
-  }
-  return keys;
-}
-
 // Packs Gaussian i into the splat of its rank and returns the tiles it is listed in.
 TileRect MakeSplat(const Projected& p, std::uint32_t i, Splat& s) {
   s.u = p.u[i];
@@ -149,11 +122,53 @@ TileRect MakeSplat(const Projected& p, std::uint32_t i, Splat& s) {
   return rect;
 }
 
+// The visible Gaussians in scene-index order: packed splats and rectangles, and their sort keys
+// (tz bits << 32 | position in this list; the position grows with the scene index, so it breaks
+// depth ties exactly like the index). Reading the preprocessing arrays sequentially here, and
+// later moving one packed splat per rank, avoids a scattered read of every array per rank.
+struct Packed {
+  std::vector<std::uint64_t> keys;
+  std::vector<Splat> splats;
+  std::vector<TileRect> rects;
+};
+
+Packed PackVisible(const Projected& p, int threads) {
+  const std::size_t n = p.status.size();
+  const int chunks = ChunkCount(n, threads);
+  std::vector<std::size_t> start(static_cast<std::size_t>(chunks) + 1, 0);
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
+  for (int c = 0; c < chunks; ++c) {
+    std::size_t count = 0;
+    for (std::size_t i = ChunkBegin(n, chunks, c), e = ChunkBegin(n, chunks, c + 1); i < e; ++i)
+      count += p.status[i] == kVisible;
+    start[c + 1] = count;
+  }
+  for (int c = 0; c < chunks; ++c) start[c + 1] += start[c];
+  Packed packed;
+  packed.keys.resize(start[chunks]);
+  packed.splats.resize(start[chunks]);
+  packed.rects.resize(start[chunks]);
+#pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
+  for (int c = 0; c < chunks; ++c) {
+    std::size_t j = start[c];
+    for (std::size_t i = ChunkBegin(n, chunks, c), e = ChunkBegin(n, chunks, c + 1); i < e; ++i) {
+      if (p.status[i] != kVisible) continue;
+      std::uint32_t bits;
+      std::memcpy(&bits, &p.tz[i], sizeof bits);
+      packed.keys[j] = (std::uint64_t{bits} << 32) | static_cast<std::uint32_t>(j);
+      packed.rects[j] = MakeSplat(p, static_cast<std::uint32_t>(i), packed.splats[j]);
+      ++j;
+    }
+  }
+  return packed;
+}
+
 }  // namespace
 
 void BuildFrame(Frame& frame, int threads) {
   threads = std::max(1, threads);
-  std::vector<std::uint64_t> keys = DepthKeys(frame.proj, threads);
+  Packed packed = PackVisible(frame.proj, threads);
+  std::vector<std::uint64_t>& keys = packed.keys;
   SortByDepth(keys, threads);
 
   const std::size_t visible = keys.size();
@@ -161,14 +176,16 @@ void BuildFrame(Frame& frame, int threads) {
   frame.rects.resize(visible);
   const int gx = frame.view.grid_x, gy = frame.view.grid_y;
   const std::size_t tiles = static_cast<std::size_t>(gx) * gy;
-  // Per chunk of ranks: splats, rectangles and per-tile entry counts.
+  // Per chunk of ranks: splats and rectangles in depth order, per-tile entry counts.
   const int chunks = ChunkCount(visible, threads);
   std::vector<std::uint32_t> count(static_cast<std::size_t>(chunks) * tiles, 0);
 #pragma omp parallel for schedule(static, 1) num_threads(threads) if (chunks > 1)
   for (int c = 0; c < chunks; ++c) {
     std::uint32_t* cnt = count.data() + static_cast<std::size_t>(c) * tiles;
     for (std::size_t r = ChunkBegin(visible, chunks, c), e = ChunkBegin(visible, chunks, c + 1); r < e; ++r) {
-      const TileRect rect = MakeSplat(frame.proj, static_cast<std::uint32_t>(keys[r]), frame.splats[r]);
+      const std::uint32_t j = static_cast<std::uint32_t>(keys[r]);
+      frame.splats[r] = packed.splats[j];
+      const TileRect rect = packed.rects[j];
       frame.rects[r] = rect;
       for (int ty = rect.y0; ty < rect.y1; ++ty)
         for (int tx = rect.x0; tx < rect.x1; ++tx) ++cnt[static_cast<std::size_t>(ty) * gx + tx];
