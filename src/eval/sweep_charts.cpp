@@ -34,11 +34,12 @@ double RunSeconds(const nlohmann::json& r) {
 }
 
 // A setting: the parameters without the scene (records of many scenes are averaged).
-using Setting = std::tuple<int, double, int, double, double, std::string, std::string>;
+using Setting = std::tuple<int, double, int, double, double, std::string, std::string, double>;
 Setting SettingOf(const nlohmann::json& r) {
   const auto& p = r["params"];
   return {p["k"].get<int>(), p["delta"].get<double>(), p["hops"].get<int>(), p["radius_scale"].get<double>(),
-          p["lambda"].get<double>(), p["solver"].get<std::string>(), p["threshold"].get<std::string>()};
+          p["lambda"].get<double>(), p["solver"].get<std::string>(), p["threshold"].get<std::string>(),
+          p.value("segment_share", 0.0)};
 }
 
 std::string Label(const Setting& s) {
@@ -106,7 +107,7 @@ void Pareto(const fs::path& dir, const std::vector<nlohmann::json>& records, nlo
 }
 
 // heatmap_f1_<solver>.png: per λ a panel of F1 over k × δ; each cell is the mean over scenes of
-// the best F1 over the remaining axes (hops, radius_scale, threshold).
+// the best F1 over the remaining axes (hops, radius_scale, threshold, segment_share).
 void Heatmaps(const fs::path& dir, const std::vector<nlohmann::json>& records, nlohmann::json& out) {
   // (solver, λ, k, δ) -> scene -> best F1
   std::map<std::tuple<std::string, double, int, double>, std::map<std::string, double>> cells;

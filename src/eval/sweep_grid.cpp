@@ -65,7 +65,7 @@ std::string Num(double v) { return nlohmann::json(v).dump(); }
 
 std::size_t SweepGrid::size() const {
   return k.size() * delta.size() * hops.size() * radius_scale.size() * lambda.size() * solver.size() *
-         threshold.size();
+         threshold.size() * segment_share.size();
 }
 
 SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
@@ -106,8 +106,13 @@ SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
         PushUnique(g.solver, v);
       } else if (key == "threshold") {
         PushUnique(g.threshold, ParseDecisionRule(v).ToString());
+      } else if (key == "segment_share") {
+        const double m = ParseNumber(key, v);
+        if (!(m >= 0 && m <= 1)) throw Error(GridError("segment_share must be in [0, 1]"), ExitCode::kUsage);
+        PushUnique(g.segment_share, m);
       } else {
-        throw Error(GridError("unknown key '" + key + "' (k, delta, hops, radius_scale, lambda, solver, threshold)"),
+        throw Error(GridError("unknown key '" + key + "' (k, delta, hops, radius_scale, lambda, solver, threshold, "
+                              "segment_share)"),
                     ExitCode::kUsage);
       }
     }
@@ -120,6 +125,7 @@ SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
   if (g.lambda.empty()) g.lambda = {base.graph.lambda};
   if (g.solver.empty()) g.solver = {ResolveSolverName(base.solver)};
   if (g.threshold.empty()) g.threshold = {base.decision.rule.ToString()};
+  if (g.segment_share.empty()) g.segment_share = {base.decision.min_segment_share};
   return g;
 }
 
@@ -132,7 +138,8 @@ std::vector<SweepPoint> EnumeratePoints(const SweepGrid& g) {
         for (double r : g.radius_scale)
           for (double l : g.lambda)
             for (const auto& s : g.solver)
-              for (const auto& t : g.threshold) points.push_back({k, d, h, r, l, s, t});
+              for (const auto& t : g.threshold)
+                for (double m : g.segment_share) points.push_back({k, d, h, r, l, s, t, m});
   return points;
 }
 
@@ -143,7 +150,7 @@ bool SameGraph(const SweepPoint& a, const SweepPoint& b) {
 std::string PointId(const std::string& scene, const SweepPoint& p) {
   return scene + "|k=" + std::to_string(p.k) + "|delta=" + Num(p.delta) + "|hops=" + std::to_string(p.hops) +
          "|radius_scale=" + Num(p.radius_scale) + "|lambda=" + Num(p.lambda) + "|solver=" + p.solver +
-         "|threshold=" + p.threshold;
+         "|threshold=" + p.threshold + "|segment_share=" + Num(p.segment_share);
 }
 
 std::string Shard::ToString() const { return std::to_string(index) + "/" + std::to_string(count); }

@@ -27,6 +27,7 @@ constexpr Column kColumns[] = {
     {"lambda", "/params/lambda"},
     {"solver", "/params/solver"},
     {"threshold", "/params/threshold"},
+    {"segment_share", "/params/segment_share"},
     {"status", "/status"},
     {"nodes", "/graph/nodes"},
     {"edges", "/graph/edges"},
@@ -122,6 +123,7 @@ void SortRecords(std::vector<nlohmann::json>& records) {
     return std::make_tuple(r.value("scene", std::string()), p.value("k", 0), p.value("delta", 0.0),
                            p.value("hops", 0), p.value("radius_scale", 0.0), p.value("lambda", 0.0),
                            p.value("solver", std::string()), p.value("threshold", std::string()),
+                           p.value("segment_share", 0.0),
                            r.value("id", std::string()));
   };
   std::stable_sort(records.begin(), records.end(),

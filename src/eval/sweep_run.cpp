@@ -62,7 +62,8 @@ void CheckInputsExist(const SweepScene& s) {
 
 nlohmann::json GridJson(const SweepGrid& g) {
   return {{"k", g.k}, {"delta", g.delta}, {"hops", g.hops}, {"radius_scale", g.radius_scale},
-          {"lambda", g.lambda}, {"solver", g.solver}, {"threshold", g.threshold}};
+          {"lambda", g.lambda}, {"solver", g.solver}, {"threshold", g.threshold},
+          {"segment_share", g.segment_share}};
 }
 
 }  // namespace
@@ -181,6 +182,7 @@ SweepResult RunSweep(const SweepOptions& o) {
     }
     DecisionOptions decision = sc.options.decision;
     decision.rule = ParseDecisionRule(p.threshold);
+    decision.min_segment_share = p.segment_share;
     Timer solve_timer;
     const SolveOutcome solved = SolveAndDecide(*inputs, *graph, go, *solvers.at(p.solver), decision);
     const double solve_and_decide = solve_timer.Seconds();
@@ -195,6 +197,7 @@ SweepResult RunSweep(const SweepOptions& o) {
         {"params",
          {{"k", p.k}, {"delta", p.delta}, {"hops", p.hops}, {"radius_scale", p.radius_scale},
           {"lambda", p.lambda}, {"solver", p.solver}, {"threshold", p.threshold},
+          {"segment_share", p.segment_share},
           {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
           {"spatial", go.spatial}, {"knn_checks", go.knn_checks}, {"kl_smoothing", go.kl_smoothing},
           {"restore", decision.restore}, {"method", sc.options.method}}},

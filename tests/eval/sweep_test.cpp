@@ -39,11 +39,13 @@ TEST(SweepGrid, ParsesAxesAndFillsTheRestFromTheBase) {
   EXPECT_EQ(d.k, (std::vector<int>{4}));  // duplicates dropped
   EXPECT_EQ(d.threshold, (std::vector<std::string>{"percentile:95"}));
   EXPECT_EQ(d.solver, (std::vector<std::string>{"bk"}));
+  EXPECT_EQ(d.segment_share, (std::vector<double>{2.0 / 3.0}));  // the base decision's
+  EXPECT_EQ(ParseSweepGrid("segment_share=0,0.5", Base()).size(), 2u);
 }
 
 TEST(SweepGrid, RejectsBadGrids) {
   for (const char* bad : {"k=", "k=4;k=6", "kk=1", "k=0", "k=2.5", "delta=x", "solver=nope", "lambda=-1",
-                          "k", "threshold=percentile:x", "hops=0"}) {
+                          "k", "threshold=percentile:x", "hops=0", "segment_share=1.5"}) {
     try {
       ParseSweepGrid(bad, Base());
       ADD_FAILURE() << "accepted " << bad;
@@ -62,7 +64,8 @@ TEST(SweepGrid, PointsSharingAGraphAreConsecutive) {
   std::set<std::string> ids;
   for (const auto& p : points) ids.insert(PointId("s", p));
   EXPECT_EQ(ids.size(), points.size());
-  EXPECT_EQ(PointId("s", points[0]), "s|k=4|delta=0.8|hops=1|radius_scale=1.0|lambda=0.5|solver=bk|threshold=0.5");
+  EXPECT_EQ(PointId("s", points[0]),
+            "s|k=4|delta=0.8|hops=1|radius_scale=1.0|lambda=0.5|solver=bk|threshold=0.5|segment_share=0.6666666666666666");
 }
 
 TEST(SweepShard, ParsesAndPartitionsContiguously) {

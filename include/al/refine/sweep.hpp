@@ -31,11 +31,12 @@ struct SweepGrid {
   std::vector<double> lambda;
   std::vector<std::string> solver;     // resolved names (al/solver.hpp)
   std::vector<std::string> threshold;  // decision rules, canonical ("0.5", "percentile:95")
+  std::vector<double> segment_share;   // the decision's min_segment_share (0 = plain rule)
   std::size_t size() const;
 };
 
 // "k=4,6,10;delta=0.8,1.0;lambda=0.5,1,2;solver=bk,cp" (keys k, delta, hops, radius_scale,
-// lambda, solver, threshold; values deduplicated in the given order). Throws al::Error (usage) on
+// lambda, solver, threshold, segment_share; values deduplicated in the given order). Throws al::Error (usage) on
 // unknown keys, repeated keys, empty or invalid values.
 SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base);
 
@@ -48,17 +49,19 @@ struct SweepPoint {
   double lambda = 1.0;
   std::string solver;
   std::string threshold = "0.5";
+  double segment_share = 2.0 / 3.0;
 };
 
-// Every point, graph axes outermost (k, δ, hops, radius_scale), then λ, solver, threshold, so
-// points sharing a graph are consecutive.
+// Every point, graph axes outermost (k, δ, hops, radius_scale), then λ, solver, threshold,
+// segment_share, so points sharing a graph are consecutive.
 std::vector<SweepPoint> EnumeratePoints(const SweepGrid& grid);
 
 // True when a and b need the same graph (they differ at most in λ, solver, threshold).
 bool SameGraph(const SweepPoint& a, const SweepPoint& b);
 
 // The key results.jsonl is resumed and merged on: "scene|k=4|delta=0.8|hops=1|radius_scale=1|
-// lambda=0.5|solver=bk|threshold=0.5" (numbers in shortest round-trip form).
+// lambda=0.5|solver=bk|threshold=0.5|segment_share=0.6666666666666666" (numbers in shortest
+// round-trip form).
 std::string PointId(const std::string& scene, const SweepPoint& point);
 
 // A scene of the sweep: its refine options (method, features, removed set, labels, ...) and,
