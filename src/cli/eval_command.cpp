@@ -148,6 +148,17 @@ class EvalCommand : public Command {
         row = (target.preset.empty() ? std::filesystem::path(scene_).parent_path().filename().string() : target.preset) +
               "-" + target.name;
     }
+    if (row.empty() && labels_.empty()) {
+      // A synth scene names its target in target.json beside scene.ply.
+      const std::filesystem::path target = std::filesystem::path(scene_).parent_path() / "target.json";
+      if (std::filesystem::is_regular_file(target)) {
+        try {
+          const eval::TargetInfo t = eval::ResolveTarget(target.string(), std::nullopt);
+          if (!t.name.empty() && !t.preset.empty()) row = t.preset + "-" + t.name;
+        } catch (const Error&) {  // not a synth target file: fall back to the folder name
+        }
+      }
+    }
     if (row.empty()) row = std::filesystem::path(scene_).parent_path().filename().string();
     if (row.empty()) row = std::filesystem::path(scene_).stem().string();
     o_.row_name = row;
