@@ -50,8 +50,11 @@ void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std:
     if (c.removed.size() != n)
       throw Error("eval: removal '" + c.label + "' has " + std::to_string(c.removed.size()) +
                   " entries, the scene " + std::to_string(n));
-    if (c.name.empty() || c.name == "before" || names[c.name]++)
-      throw Error("eval: column name '" + c.name + "' is empty, 'before' or repeated", ExitCode::kUsage);
+    // Names become file-name parts (VIEW_<name>.png): they must not collide with the fixed ones.
+    if (c.name.empty() || c.name == "before" || c.name == "depthdiff" || c.name == "added" ||
+        c.name.find_first_of("/\\") != std::string::npos || names[c.name]++)
+      throw Error("eval: column name '" + c.name + "' is empty, reserved (before, depthdiff, added), holds a path "
+                  "separator or is repeated", ExitCode::kUsage);
     for (const std::string* d : {&c.seg_dir, &c.sam_dir})
       if (!d->empty() && !IsDir(*d)) throw FileError(*d, "not a directory");
   }
@@ -128,7 +131,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   if (!o.sam_before_dir.empty()) sam_before = std::make_unique<SamLists>(o.sam_before_dir);
   for (std::size_t c = 0; c < nc; ++c)
     if (run_sam[c]) sam_cols[c] = std::make_unique<SamLists>(columns[c].sam_dir);
-  std::vector<std::size_t> sam_missing(nc, 0), seg_missing_files(nc, 0);
+  std::vector<std::size_t> sam_missing(nc, 0);
   std::size_t png_writes = 0;
 
   Progress progress("eval", cameras.size(), o.progress);
