@@ -38,6 +38,9 @@ struct CutPursuitOptions {
   int pfdr_it_max = 10000;      // PFDR maximum iterations
   int num_threads = 0;          // 0 = OpenMP default; results never depend on it
   bool emulate_upstream_projection_bug = false;  // reproduce pcp's polluted directions (§4.2)
+  // Saturate the remainder of a split whose value then moved by <= cp_dif_tol (al-refine extension,
+  // docs/solvers.md "cp speed"). false = the spec's rule only (saturated = no edge activated).
+  bool saturate_split_remainders = true;
 };
 
 struct CutPursuitResult {
@@ -53,6 +56,8 @@ struct CutPursuitResult {
   int iterations = 0;
   bool converged = false;
   double objective = 0.0;
+  std::vector<std::int64_t> split_nodes;  // per outer iteration: vertices of the non-saturated components offered to the split (work)
+  int remainder_saturations = 0;          // components saturated by saturate_split_remainders
   std::vector<std::string> warnings;      // e.g. non-monotone objective steps
 
   double Value(std::int64_t v, int d, int D) const { return rX[comp_assign[v] * D + d]; }

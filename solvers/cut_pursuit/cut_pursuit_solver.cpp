@@ -47,6 +47,8 @@ class CutPursuitSolver final : public Solver {
     out.stats["reduce_seconds"] = r.reduce_seconds;
     out.stats["pfdr_seconds"] = r.pfdr_seconds;
     out.stats["merge_seconds"] = r.merge_seconds;
+    out.stats["split_nodes"] = r.split_nodes;
+    out.stats["remainder_saturations"] = r.remainder_saturations;
     out.stats["non_monotone_steps"] = r.warnings.size();
     out.stats["emulate_upstream_projection_bug"] = options_.emulate_upstream_projection_bug;
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -77,9 +79,9 @@ cp::CutPursuitOptions ParseCutPursuitOptions(const nlohmann::json& options) {
     else if (key == "pfdr_dif_tol") o.pfdr_dif_tol = Num(v, key);
     else if (key == "pfdr_it_max") o.pfdr_it_max = Int(v, key);
     else if (key == "num_threads") o.num_threads = Int(v, key);
-    else if (key == "emulate_upstream_projection_bug") {
+    else if (key == "emulate_upstream_projection_bug" || key == "saturate_split_remainders") {
       if (!v.is_boolean()) throw Error("cp solver: option '" + key + "' must be a boolean", ExitCode::kUsage);
-      o.emulate_upstream_projection_bug = v.get<bool>();
+      (key == "saturate_split_remainders" ? o.saturate_split_remainders : o.emulate_upstream_projection_bug) = v.get<bool>();
     } else {
       throw Error("cp solver: unknown option '" + key + "'", ExitCode::kUsage);
     }
