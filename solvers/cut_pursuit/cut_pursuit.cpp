@@ -259,12 +259,12 @@ bool SplitComponent(const Context& cx, std::int32_t c, const std::vector<std::in
 
 // al-refine extension of §7 (the spec saturates only components whose cut activates no edge). With
 // D = 2 the two candidate directions span the whole tangent cone, so one min cut already is the best
-// first-order split of a component at its value (for D > 2 with K = 2 the rule is a heuristic). When that split leaves a remainder (the final
-// component holding most of the old vertices and no others) whose value then moved by at most
-// cp_dif_tol, re-cutting it next iteration only answers the changed boundary: on the 100k benchmark
-// that is a balanced max-flow over ~86k nodes (0.7 s) splitting off ~13 nodes or none at all (pieces
-// merged back). Such a remainder is saturated; the §7 rule desaturates it once its value moves by more
-// than cp_dif_tol or it merges with another component. Returns how many components were saturated.
+// two-direction (first-order) split of a component at its value (for D > 2 with K = 2 the rule is a heuristic). When
+// that split leaves a remainder (the final component holding most of the old vertices and no others)
+// whose value then moved by at most cp_dif_tol, re-cutting it next iteration only answers the changed
+// boundary: on the 100k benchmark a balanced max-flow over ~86k nodes (0.7 s) that splits off ~13
+// nodes or none at all (pieces merged back). Such a remainder is saturated; the §7 rule desaturates it
+// once its value moves by more than cp_dif_tol or it merges with another component. Returns the count.
 int SaturateSplitRemainders(double tol, int D, const std::vector<char>& did_split, const std::vector<std::int64_t>& cfirst,
                             const std::vector<std::int32_t>& origin, const std::vector<std::int64_t>& csize,
                             const std::vector<std::int32_t>& piece_final, const std::vector<double>& rX,

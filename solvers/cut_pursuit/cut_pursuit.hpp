@@ -56,7 +56,8 @@ struct CutPursuitResult {
   int iterations = 0;
   bool converged = false;
   double objective = 0.0;
-  std::vector<std::int64_t> split_nodes;  // per outer iteration: vertices of the non-saturated components offered to the split (work)
+  // Per outer iteration: vertices of the non-saturated components offered to the split (max-flow work).
+  std::vector<std::int64_t> split_nodes;
   int remainder_saturations = 0;          // components saturated by saturate_split_remainders
   std::vector<std::string> warnings;      // e.g. non-monotone objective steps
 
