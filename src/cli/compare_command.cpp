@@ -148,7 +148,8 @@ class CompareCommand : public Command {
         {"kl_smoothing", go.kl_smoothing}, {"solvers", co.solvers},
         {"grid", SolverGridToString(co.grid)}, {"solver_options", co.solver_options},
         {"reference", reference_}, {"threshold", o.decision.rule.ToString()},
-        {"restore", o.decision.restore}, {"labels", o.labels}, {"max_unmatched", o.max_unmatched},
+        {"restore", o.decision.restore}, {"min_segment_share", o.decision.min_segment_share},
+        {"labels", o.labels}, {"max_unmatched", o.max_unmatched},
         {"match_tol", o.match_tol}, {"prompt_embeddings", o.prompt_embeddings},
         {"positive", o.positives}, {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
         {"export_problem", o.export_problem_dir}};

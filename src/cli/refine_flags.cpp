@@ -42,6 +42,10 @@ void AddGraphFlags(CLI::App& app, RefineFlags& f) {
 void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--threshold", f.threshold, "Decision: a number tau or percentile:P")->default_val("0.5");
   app.add_flag("--restore", f.options.decision.restore, "Also let removed Gaussians with p < tau return");
+  app.add_option("--min-segment-share", f.options.decision.min_segment_share,
+                 "Segment rule: add only to graph components the method removed at least this share "
+                 "of (0 = SPEC 5's plain rule)")
+      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
 }
 
 void AddSolverFlags(CLI::App& app, RefineFlags& f) {

@@ -29,7 +29,7 @@ void AddInputFlags(CLI::App& app, RefineFlags& flags);
 // --k --delta --delta-mode --lambda --spatial --hops --radius-scale --knn-checks --kl-smoothing
 void AddGraphFlags(CLI::App& app, RefineFlags& flags);
 
-// --threshold --restore
+// --threshold --restore --min-segment-share
 void AddDecisionFlags(CLI::App& app, RefineFlags& flags);
 
 // --solver --solver-options (refine: one solver; compare has its own --solvers)

@@ -53,7 +53,7 @@ void WriteCompareTables(const fs::path& dir, const CompareResult& r) {
   static const char* kGt[] = {"f1", "f1_w", "precision", "recall", "iou"};
   std::ostringstream csv;
   csv << "id,solver,options,reference_only,seconds,wall_seconds,objective,gap,iterations,converged,"
-         "components,rule,threshold,added,restored,refined_count,f1,f1_w,precision,recall,iou\n";
+         "components,rule,threshold,added,restored,held_back,refined_count,f1,f1_w,precision,recall,iou\n";
   for (const auto& row : r.rows) {
     csv << row["id"].get<std::string>() << ',' << row["solver"].get<std::string>() << ','
         << CsvQuote(row["options"].dump()) << ',' << Fmt(row["reference_only"]) << ','
@@ -61,7 +61,8 @@ void WriteCompareTables(const fs::path& dir, const CompareResult& r) {
         << Fmt(row["gap"]) << ',' << Fmt(row["iterations"]) << ',' << Fmt(row["converged"]) << ','
         << Fmt(Get(row, "components")) << ',' << CsvQuote(Fmt(Get(row, "decision", "rule"))) << ','
         << Fmt(Get(row, "decision", "threshold")) << ',' << Fmt(row["added"]) << ','
-        << Fmt(row["restored"]) << ',' << Fmt(row["refined_count"]);
+        << Fmt(row["restored"]) << ',' << Fmt(Get(row, "decision", "held_back")) << ','
+        << Fmt(row["refined_count"]);
     for (const char* k : kGt) csv << ',' << Fmt(row.contains("gt") ? Get(row["gt"], k) : nlohmann::json());
     csv << '\n';
   }
