@@ -13,6 +13,10 @@
 //    masks (lanes that fail a test keep their values).
 // Pixels never depend on each other, so the evaluation order across pixels is free; within a
 // pixel the Gaussians are still visited front to back.
+// The optional subset weight (RenderOptions::weight_subset) adds one more masked accumulation of
+// the blend weight alpha*T -- the same product that feeds the depth sum -- for the subset's
+// splats. Gather and Blend are templated on it, so renders without a subset run the same code as
+// before and every other output keeps its bits either way (the new accumulator is write-only).
 #include <immintrin.h>
 
 #include <algorithm>
@@ -34,12 +38,14 @@ struct Batch {
   alignas(16) float u[kBatch], v[kBatch], a[kBatch], b[kBatch], c[kBatch], opacity[kBatch];
   float red[kBatch], green[kBatch], blue[kBatch], tz[kBatch], floor[kBatch];
   std::int32_t id[kBatch];
+  std::uint8_t in_subset[kBatch];  // only filled when the subset weight is computed
   std::int8_t lx0[kBatch], lx1[kBatch], ly0[kBatch], ly1[kBatch];  // tile-local, inclusive
 };
 
 // Accumulators of one tile, pixel (lx, ly) at ly * kTile + lx.
 struct TileAccum {
   alignas(16) float T[kPix], cr[kPix], cg[kPix], cb[kPix], dsum[kPix], inv[kPix];
+  alignas(16) float sw[kPix];  // subset weight (only used when computed)
   std::int32_t fid[kPix];
   std::uint32_t active[kTile];  // bit lx of row ly: the pixel is in the image and still blending
   alignas(16) float colx[kTile], rowy[kTile];  // pixel centres (integers, as float)
@@ -47,8 +53,9 @@ struct TileAccum {
 
 // Gathers splats from the tile list starting at k until the batch is full or the list ends;
 // returns the new list position.
-std::uint32_t Gather(const Frame& frame, std::uint32_t k, std::uint32_t end, const std::uint8_t* skip, int x0,
-                     int y0, int w, int h, Batch& batch, int& count) {
+template <bool kSubset>
+std::uint32_t Gather(const Frame& frame, std::uint32_t k, std::uint32_t end, const std::uint8_t* skip,
+                     const std::uint8_t* subset, int x0, int y0, int w, int h, Batch& batch, int& count) {
   count = 0;
   for (; k < end && count < kBatch; ++k) {
     // The splats of a tile are scattered through the depth-sorted array; the window test below
@@ -84,6 +91,7 @@ std::uint32_t Gather(const Frame& frame, std::uint32_t k, std::uint32_t end, con
     batch.tz[i] = s.tz;
     batch.floor[i] = s.power_floor;
     batch.id[i] = s.id;
+    if constexpr (kSubset) batch.in_subset[i] = subset[rank];
     batch.lx0[i] = static_cast<std::int8_t>(lx0);
     batch.lx1[i] = static_cast<std::int8_t>(lx1);
     batch.ly0[i] = static_cast<std::int8_t>(ly0);
@@ -111,6 +119,7 @@ inline __m128 Select(__m128 mask, __m128 yes, __m128 no) {
 // add/mul/div/min are the same IEEE operations as their scalar forms (no FMA on the baseline ISA,
 // and contraction is off in ISO C++ mode); only exp stays scalar (libm expf, as before), called
 // for the pixels that pass the power tests alone.
+template <bool kSubset>
 void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining, std::uint64_t& evaluations) {
   const int lx0 = batch.lx0[g], lx1 = batch.lx1[g];
   const std::uint32_t window = ((2u << lx1) - 1u) & ~((1u << lx0) - 1u);
@@ -132,6 +141,8 @@ void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining, std::uint6
   const __m128 opacity = _mm_set1_ps(batch.opacity[g]), red = _mm_set1_ps(batch.red[g]);
   const __m128 green = _mm_set1_ps(batch.green[g]), blue = _mm_set1_ps(batch.blue[g]), tz = _mm_set1_ps(batch.tz[g]);
   const __m128i id = _mm_set1_epi32(batch.id[g]), no_id = _mm_setzero_si128();
+  [[maybe_unused]] bool in_subset = false;
+  if constexpr (kSubset) in_subset = batch.in_subset[g] != 0;
   for (int ly = batch.ly0[g], ly1 = batch.ly1[g]; ly <= ly1; ++ly) {
     const std::uint32_t bits = acc.active[ly] & window;
     if (bits == 0) continue;
@@ -179,6 +190,10 @@ void Blend(const Batch& batch, int g, TileAccum& acc, int& remaining, std::uint6
       const __m128 weight = _mm_mul_ps(alpha, t);
       _mm_store_ps(acc.dsum + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.dsum + p), _mm_mul_ps(weight, tz)),
                                         _mm_load_ps(acc.dsum + p)));
+      // Subset share: sw += alpha*T for blending lanes, the reference's `acc += alpha * T`.
+      if constexpr (kSubset)
+        if (in_subset)
+          _mm_store_ps(acc.sw + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.sw + p), weight), _mm_load_ps(acc.sw + p)));
       _mm_store_ps(acc.inv + p, Select(blend, _mm_add_ps(_mm_load_ps(acc.inv + p), _mm_div_ps(weight, tz)),
                                        _mm_load_ps(acc.inv + p)));
       __m128i* fid = reinterpret_cast<__m128i*>(acc.fid + p);
@@ -205,16 +220,18 @@ void AllocateOutput(int width, int height, std::size_t num_gaussians, bool front
   else
     out.front_id.clear();
   out.radii.assign(num_gaussians, 0);
+  out.subset_weight.clear();  // the caller allocates it when a subset is given
 }
 
-std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
-                   const Eigen::Vector3f& background, bool front_id, RenderOutput& out) {
+std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip, const std::uint8_t* subset,
+                            const Eigen::Vector3f& background, bool front_id, RenderOutput& out) {
   const int W = frame.view.width, H = frame.view.height;
   const int x0 = (tile % frame.view.grid_x) * kTile, y0 = (tile / frame.view.grid_x) * kTile;
   const int w = std::min(kTile, W - x0), h = std::min(kTile, H - y0);
   TileAccum acc;
   std::fill(std::begin(acc.T), std::end(acc.T), 1.0f);
   for (float* f : {acc.cr, acc.cg, acc.cb, acc.dsum, acc.inv}) std::fill(f, f + kPix, 0.0f);
+  if (subset != nullptr) std::fill(std::begin(acc.sw), std::end(acc.sw), 0.0f);
   std::fill(std::begin(acc.fid), std::end(acc.fid), -1);
   for (int i = 0; i < kTile; ++i) {
     // Pixels outside the image (partial edge tiles) are never active, hence never evaluated.
@@ -229,8 +246,13 @@ std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* sk
   const std::uint32_t end = frame.tile_offsets[tile + 1];
   while (k < end && remaining > 0) {
     int count = 0;
-    k = Gather(frame, k, end, skip, x0, y0, w, h, batch, count);
-    for (int g = 0; g < count && remaining > 0; ++g) Blend(batch, g, acc, remaining, evaluations);
+    if (subset != nullptr) {
+      k = Gather<true>(frame, k, end, skip, subset, x0, y0, w, h, batch, count);
+      for (int g = 0; g < count && remaining > 0; ++g) Blend<true>(batch, g, acc, remaining, evaluations);
+    } else {
+      k = Gather<false>(frame, k, end, skip, nullptr, x0, y0, w, h, batch, count);
+      for (int g = 0; g < count && remaining > 0; ++g) Blend<false>(batch, g, acc, remaining, evaluations);
+    }
   }
   for (int ly = 0; ly < h; ++ly)
     for (int lx = 0; lx < w; ++lx) {
@@ -244,6 +266,7 @@ std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* sk
       out.depth[idx] = acc.dsum[p] / std::max(alpha, 1e-10f);
       out.invdepth[idx] = acc.inv[p];
       if (front_id) out.front_id[idx] = acc.fid[p];
+      if (subset != nullptr) out.subset_weight[idx] = acc.sw[p];
     }
   return evaluations;
 }

@@ -79,9 +79,11 @@ struct Frame {
 void BuildFrame(Frame& frame, int threads);
 
 // Composites one tile into out (RASTERIZER.md §5, §7), src/render/composite.cpp. skip (by rank)
-// may be null. Returns the number of (Gaussian, pixel) power evaluations.
-std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip,
-                   const Eigen::Vector3f& background, bool front_id, RenderOutput& out);
+// may be null. subset (by rank) may be null; if set, out.subset_weight (H*W, allocated by the
+// caller) receives the per-pixel sum of alpha*T over the ranks where subset[rank] != 0.
+// Returns the number of (Gaussian, pixel) power evaluations.
+std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip, const std::uint8_t* subset,
+                            const Eigen::Vector3f& background, bool front_id, RenderOutput& out);
 
 // Allocates the image buffers of out.
 void AllocateOutput(int width, int height, std::size_t num_gaussians, bool front_id, RenderOutput& out);

@@ -20,20 +20,23 @@ struct RenderCache {
 namespace {
 
 void CompositeTiles(const Frame& frame, const std::vector<int>* tiles, const std::uint8_t* skip,
-                    const RenderOptions& options, RenderOutput& out) {
+                    const std::uint8_t* subset, const RenderOptions& options, RenderOutput& out) {
   const int total = tiles ? static_cast<int>(tiles->size()) : frame.view.grid_x * frame.view.grid_y;
   std::uint64_t evaluations = 0;
   // Tile costs vary by orders of magnitude (list lengths), hence the dynamic schedule.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(ThreadCount(options)) reduction(+ : evaluations)
   for (int k = 0; k < total; ++k)
     evaluations +=
-        CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, options.background, options.compute_front_id, out);
+        CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, subset, options.background, options.compute_front_id, out);
   out.pixel_evaluations = evaluations;
 }
 
 void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& options,
                 const std::vector<bool>& exclude, Frame& frame, RenderOutput& out) {
   CheckInputs(scene, camera, exclude);
+  if (options.weight_subset != nullptr && options.weight_subset->size() != scene.size())
+    throw Error("weight subset has " + std::to_string(options.weight_subset->size()) + " entries, scene has " +
+                std::to_string(scene.size()) + " Gaussians");
   Timer timer;
   frame.view = MakeViewParams(camera);
   Preprocess(scene, frame.view, options, exclude, frame.proj);
@@ -43,7 +46,16 @@ void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& o
   out.seconds_binning = timer.Seconds();
   timer.Reset();
   AllocateOutput(camera.width, camera.height, scene.size(), options.compute_front_id, out);
-  CompositeTiles(frame, nullptr, nullptr, options, out);
+  // Subset flags by depth rank, so the compositing loop reads one byte next to the splat it
+  // already gathers instead of a scene-indexed bit.
+  std::vector<std::uint8_t> subset;
+  if (options.weight_subset != nullptr) {
+    const std::vector<bool>& in = *options.weight_subset;
+    subset.resize(frame.splats.size());
+    for (std::size_t r = 0; r < frame.splats.size(); ++r) subset[r] = in[frame.splats[r].id] ? 1 : 0;
+    out.subset_weight.assign(static_cast<std::size_t>(camera.width) * camera.height, 0.0f);
+  }
+  CompositeTiles(frame, nullptr, nullptr, subset.empty() ? nullptr : subset.data(), options, out);
   out.seconds_composite = timer.Seconds();
   out.radii = frame.proj.radius;
   out.visible_gaussians = frame.proj.visible;
@@ -70,6 +82,7 @@ IncrementalRenderer::IncrementalRenderer(const Scene& scene, const Camera& camer
     : cache_(new RenderCache) {
   try {
     cache_->options = options;
+    cache_->options.weight_subset = nullptr;  // the caller's vector need not outlive the constructor
     FullRender(scene, camera, options, base_exclude, cache_->frame, cache_->before);
   } catch (...) {
     delete cache_;
@@ -90,6 +103,7 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
                 std::to_string(n) + " Gaussians");
   Timer timer;
   RenderOutput out = before;
+  out.subset_weight.clear();  // a "before" quantity: not recomputed for the after image
   out.seconds_preprocess = 0;
   out.seconds_binning = 0;
   const int gx = frame.view.grid_x;
@@ -122,7 +136,7 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
     if (dirty[t]) work.push_back(static_cast<int>(t));
   out.seconds_binning = timer.Seconds();
   timer.Reset();
-  CompositeTiles(frame, &work, skip.data(), cache_->options, out);
+  CompositeTiles(frame, &work, skip.data(), nullptr, cache_->options, out);
   out.seconds_composite = timer.Seconds();
   out.visible_gaussians = before.visible_gaussians - removed_visible;
   out.excluded_nonfinite = before.excluded_nonfinite - removed_nonfinite;

@@ -18,6 +18,12 @@ struct RenderOptions {
   bool frustum_cull = true;         // extra cull that never changes a pixel (RASTERIZER.md §9)
   int num_threads = 0;              // 0 = OpenMP default
   bool compute_front_id = true;
+  // Optional (scene-sized, not owned): also accumulate, per pixel, the sum of alpha*T over the
+  // Gaussians where (*weight_subset)[i] is true -- the subset's share of the full composite (an
+  // object mask is share >= 0.5). Computed in the same compositing pass, so the share uses exactly
+  // the T of the image itself; null = not computed, at no cost. Full renders only (Render and
+  // IncrementalRenderer::before()); After() and ReferenceRender leave subset_weight empty.
+  const std::vector<bool>* weight_subset = nullptr;
 };
 
 struct RenderOutput {
@@ -28,6 +34,7 @@ struct RenderOutput {
   std::vector<float> invdepth;      // H*W, not normalised
   std::vector<std::int32_t> front_id;  // H*W scene index of the first blended Gaussian, -1 if none
   std::vector<std::int32_t> radii;  // per scene Gaussian (0 = invisible or excluded)
+  std::vector<float> subset_weight; // H*W sum of alpha*T over options.weight_subset; empty if none
   // Statistics.
   std::size_t visible_gaussians = 0, excluded_nonfinite = 0;
   // Finite parameters whose projection overflowed (e.g. log-scale 60): never rendered, counted.
