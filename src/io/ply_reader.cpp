@@ -12,6 +12,7 @@
 
 #include "al/core/error.hpp"
 #include "al/io/ply.hpp"
+#include "al/io/record_file.hpp"
 #include "src/io/mapped_file.hpp"
 
 namespace al {
@@ -347,9 +348,9 @@ void DecodeBinary(const unsigned char* records, std::size_t n, std::size_t recor
 #pragma omp parallel for schedule(static) if (n > 32768)
     for (std::ptrdiff_t b = 0; b < blocks; ++b) {
       const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
-      std::memcpy(copy + begin * record_bytes, records + begin * record_bytes, (end - begin) * record_bytes);
+      if (copy) std::memcpy(copy + begin * record_bytes, records + begin * record_bytes, (end - begin) * record_bytes);
       for (std::size_t i = begin; i < end; ++i) {
-        const unsigned char* rec = copy + i * record_bytes;
+        const unsigned char* rec = (copy ? copy : records) + i * record_bytes;
         for (std::size_t q = 0; q < m; ++q) {
           float v;
           std::memcpy(&v, rec + f[q].offset, sizeof(float));
@@ -362,9 +363,9 @@ void DecodeBinary(const unsigned char* records, std::size_t n, std::size_t recor
 #pragma omp parallel for schedule(static) if (n > 32768)
   for (std::ptrdiff_t b = 0; b < blocks; ++b) {
     const std::size_t begin = static_cast<std::size_t>(b) * kBlock, end = std::min(n, begin + kBlock);
-    std::memcpy(copy + begin * record_bytes, records + begin * record_bytes, (end - begin) * record_bytes);
+    if (copy) std::memcpy(copy + begin * record_bytes, records + begin * record_bytes, (end - begin) * record_bytes);
     for (std::size_t i = begin; i < end; ++i) {
-      const unsigned char* rec = copy + i * record_bytes;
+      const unsigned char* rec = (copy ? copy : records) + i * record_bytes;
       for (const auto& t : plan)
         t.base[i * t.stride] = LoadAsFloat(rec + offsets[t.property], types[t.property], swap);
     }
@@ -401,8 +402,12 @@ bool ParseAsciiValue(std::string_view tok, float& out) {
 
 }  // namespace
 
-Scene ReadPlyFromMemory(const void* data_ptr, std::size_t size, const std::string& path,
-                        const PlyReadOptions& options) {
+namespace {
+
+// file_backed: the bytes are the whole file at `path`; binary vertex records are then re-read from
+// the file by the writer instead of being copied (see PlySource::vertex_file).
+Scene ReadPlyImpl(const void* data_ptr, std::size_t size, const std::string& path,
+                  const PlyReadOptions& options, bool file_backed) {
   const char* data = static_cast<const char*>(data_ptr);
   if (size == 0 || data == nullptr) throw FileError(path, "empty file (missing PLY magic)");
   Header h = ParseHeader(data, size, path);
@@ -458,10 +463,16 @@ Scene ReadPlyFromMemory(const void* data_ptr, std::size_t size, const std::strin
                                 " bytes need " + std::to_string(n * record_bytes) + " bytes, file has " +
                                 std::to_string(body - skip) + " after the header");
     const auto* records = reinterpret_cast<const unsigned char*>(data + h.length + skip);
-    auto raw = std::make_shared<std::string>(n * record_bytes, '\0');
-    DecodeBinary(records, n, record_bytes, types, offsets, plan, h.format == PlySource::Format::kBinaryLittleEndian,
-                 reinterpret_cast<unsigned char*>(raw->data()));
-    src->vertex_bytes = std::move(raw);
+    const bool little = h.format == PlySource::Format::kBinaryLittleEndian;
+    if (file_backed) {
+      src->vertex_file = std::make_shared<const RecordFile>(path, h.length + skip, n * record_bytes);
+      DecodeBinary(records, n, record_bytes, types, offsets, plan, little, nullptr);
+    } else {
+      auto raw = std::make_shared<std::string>(n * record_bytes, '\0');
+      DecodeBinary(records, n, record_bytes, types, offsets, plan, little,
+                   reinterpret_cast<unsigned char*>(raw->data()));
+      src->vertex_bytes = std::move(raw);
+    }
   } else {
     std::size_t pos = h.length;
     std::string_view line;
@@ -498,9 +509,16 @@ Scene ReadPlyFromMemory(const void* data_ptr, std::size_t size, const std::strin
   return scene;
 }
 
+}  // namespace
+
+Scene ReadPlyFromMemory(const void* data, std::size_t size, const std::string& name,
+                        const PlyReadOptions& options) {
+  return ReadPlyImpl(data, size, name, options, /*file_backed=*/false);
+}
+
 Scene ReadPly(const std::string& path, const PlyReadOptions& options) {
   const io::MappedFile file(path);
-  return ReadPlyFromMemory(file.data(), file.size(), path, options);
+  return ReadPlyImpl(file.data(), file.size(), path, options, /*file_backed=*/true);
 }
 
 }  // namespace al

@@ -10,6 +10,7 @@
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
 #include "al/io/ply.hpp"
+#include "al/io/record_file.hpp"
 
 namespace al {
 namespace {
@@ -48,8 +49,22 @@ std::string RewriteHeader(const std::string& header, std::size_t kept) {
 void WriteFromSource(std::ostream& os, const PlySource& src, const std::vector<bool>& keep, std::size_t kept) {
   const std::string header = RewriteHeader(src.header, kept);
   os.write(header.data(), static_cast<std::streamsize>(header.size()));
-  const std::string& bytes = *src.vertex_bytes;
   const std::size_t n = keep.size();
+  // Runs of kept records come from memory or, for file-backed scenes, are re-read in bounded chunks.
+  std::string chunk;
+  auto emit = [&](std::size_t begin, std::size_t end) {
+    if (src.vertex_bytes) {
+      os.write(src.vertex_bytes->data() + begin, static_cast<std::streamsize>(end - begin));
+      return;
+    }
+    constexpr std::size_t kChunk = std::size_t{8} << 20;
+    for (std::size_t at = begin; at < end; at += kChunk) {
+      const std::size_t len = std::min(kChunk, end - at);
+      chunk.resize(len);
+      src.vertex_file->Read(at, len, chunk.data());
+      os.write(chunk.data(), static_cast<std::streamsize>(len));
+    }
+  };
   // Consecutive kept records are written as one run.
   auto span = [&](std::size_t i) -> std::pair<std::size_t, std::size_t> {
     if (src.format == PlySource::Format::kAscii) return {src.ascii_line_offsets[i], src.ascii_line_offsets[i + 1]};
@@ -61,7 +76,7 @@ void WriteFromSource(std::ostream& os, const PlySource& src, const std::vector<b
     std::size_t j = i;
     while (j < n && keep[j]) ++j;
     const std::size_t begin = span(i).first, end = span(j - 1).second;
-    os.write(bytes.data() + begin, static_cast<std::streamsize>(end - begin));
+    emit(begin, end);
     i = j;
   }
 }
@@ -126,10 +141,11 @@ void WritePly(const std::string& path, const Scene& scene, const std::vector<boo
   std::size_t kept = n;
   if (!keep.empty()) kept = static_cast<std::size_t>(std::count(keep.begin(), keep.end(), true));
   const PlySource* src = scene.ply.get();
-  if (src && src->vertex_bytes) {
+  if (src && (src->vertex_bytes || src->vertex_file)) {
+    const std::size_t record_area = src->vertex_bytes ? src->vertex_bytes->size() : src->vertex_file->size();
     const std::size_t source_n = src->format == PlySource::Format::kAscii
                                      ? (src->ascii_line_offsets.empty() ? 0 : src->ascii_line_offsets.size() - 1)
-                                     : (src->record_bytes ? src->vertex_bytes->size() / src->record_bytes : 0);
+                                     : (src->record_bytes ? record_area / src->record_bytes : 0);
     if (source_n != n)
       throw FileError(path, "scene has " + std::to_string(n) + " Gaussians but its PLY source has " + std::to_string(source_n));
     const std::vector<bool> all = keep.empty() ? std::vector<bool>(n, true) : std::vector<bool>();

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <random>
 #include <sstream>
@@ -291,6 +292,35 @@ TEST(PlyRoundTrip, WriterDropsOtherElementsAndRejectsBadMasks) {
   WritePly(out, s);
   EXPECT_EQ(ReadBytes(out), MakePly(Fmt::kLE, cols, rows));
   EXPECT_THROW(WritePly(out, s, std::vector<bool>(3, true)), Error);
+}
+
+// Binary scenes read from a file keep their records in the file, not in memory: the byte-exact
+// writer must still work after the path was replaced (the open file is read), and a file truncated
+// in place must give an error and no output rather than garbage.
+TEST(PlyRoundTrip, FileBackedRecordsSurviveReplacementAndReportTruncation) {
+  const auto dir = test::TempDir();
+  const auto cols = StandardCols(9, 2);
+  const auto rows = RandomRows(5000, cols.size(), 21);
+  const std::string original = MakePly(Fmt::kLE, cols, rows);
+  const auto in = WriteFile(dir / "in.ply", original);
+  const Scene s = ReadPly(in);
+  ASSERT_TRUE(s.ply->vertex_file);
+  EXPECT_FALSE(s.ply->vertex_bytes);  // no second copy of the records in memory
+  std::filesystem::rename(WriteFile(dir / "other.ply", MakePly(Fmt::kLE, cols, RandomRows(7, cols.size(), 3))), in);
+  std::vector<bool> keep(rows.size());
+  std::vector<std::vector<double>> kept_rows;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if ((keep[i] = (i % 3 != 1))) kept_rows.push_back(rows[i]);
+  const auto out = (dir / "out.ply").string();
+  WritePly(out, s, keep);
+  EXPECT_EQ(ReadBytes(out), MakePly(Fmt::kLE, cols, kept_rows));
+
+  const auto in2 = WriteFile(dir / "in2.ply", original);
+  const Scene t = ReadPly(in2);
+  std::filesystem::resize_file(in2, original.size() / 2);  // truncated in place after loading
+  const auto out2 = dir / "out2.ply";
+  EXPECT_THROW(WritePly(out2.string(), t), Error);
+  EXPECT_FALSE(std::filesystem::exists(out2));
 }
 
 }  // namespace

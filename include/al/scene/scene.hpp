@@ -23,6 +23,8 @@ struct PlyProperty {
   std::size_t offset = 0;  // byte offset inside a binary record (unused for ASCII)
 };
 
+class RecordFile;  // al/io/record_file.hpp
+
 struct PlySource {
   enum class Format { kAscii, kBinaryLittleEndian, kBinaryBigEndian };
   std::string path;
@@ -32,7 +34,10 @@ struct PlySource {
   std::size_t record_bytes = 0;             // binary: bytes per vertex record
   std::vector<std::string> extra_elements;  // header lines of elements other than vertex (dropped by the writer)
   // Raw vertex records: binary = N*record_bytes bytes; ASCII = the vertex lines, each ending in '\n'.
+  // Binary PLYs read from a file leave their records in the file (vertex_file) instead, so a loaded
+  // scene does not hold its file twice; in-memory parses (and ASCII) keep vertex_bytes.
   std::shared_ptr<const std::string> vertex_bytes;
+  std::shared_ptr<const RecordFile> vertex_file;
   std::vector<std::uint64_t> ascii_line_offsets;  // ASCII only: N+1 offsets into vertex_bytes
 };
 
