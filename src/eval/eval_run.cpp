@@ -146,6 +146,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     // 1. Object mask (> 0) and its 8-bit grey form (semantic/sim_SAM binarise it themselves).
     Timer t;
     metrics::Gray8 object_gray;
+    std::unique_ptr<IncrementalRenderer> renderer;
     if (!object.masks_dir.empty()) {
       const fs::path path = fs::path(object.masks_dir) / (cam.name + ".png");
       if (!IsFile(path)) {
@@ -156,7 +157,16 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
       }
       r.seconds_io += t.Seconds();
     } else {
-      const std::vector<float> share = fixtures::SubsetWeight(scene, cam, subset, o.render.num_threads);
+      // The object's share of the "before" composite (sum of alpha*T over its Gaussians) comes out
+      // of the "before" render itself: one compositing pass instead of a second one just for the
+      // mask. It agrees with fixtures::SubsetWeight (the synth ground truth) up to float rounding
+      // of the projection (tests/fixtures/subset_weight_render_test.cpp). Timed as render.
+      RenderOptions with_share = o.render;
+      with_share.weight_subset = &subset;
+      renderer = std::make_unique<IncrementalRenderer>(scene, cam, with_share);
+      r.seconds_render += t.Seconds();
+      t.Reset();
+      const std::vector<float>& share = renderer->before().subset_weight;
       object_gray = {cam.width, cam.height, std::vector<std::uint8_t>(share.size())};
       for (std::size_t p = 0; p < share.size(); ++p) object_gray.pixels[p] = share[p] >= 0.5f ? 255 : 0;
       r.seconds_object_masks += t.Seconds();
@@ -172,12 +182,13 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     view.evaluated = true;
     ++r.evaluated;
 
-    // 2. Renders: "before" in full, each column incrementally from its cache.
+    // 2. Renders: "before" in full (already done with --labels), each column incrementally from
+    // its cache.
     t.Reset();
-    IncrementalRenderer renderer(scene, cam, o.render);
-    const RenderOutput& before = renderer.before();
+    if (!renderer) renderer = std::make_unique<IncrementalRenderer>(scene, cam, o.render);
+    const RenderOutput& before = renderer->before();
     std::vector<RenderOutput> after(nc);
-    for (std::size_t c = 0; c < nc; ++c) after[c] = renderer.After(columns[c].removed);
+    for (std::size_t c = 0; c < nc; ++c) after[c] = renderer->After(columns[c].removed);
     r.seconds_render += t.Seconds();
 
     // 3. Metrics.
