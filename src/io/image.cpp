@@ -68,6 +68,12 @@ bool EncodePng(WriteBuffer* out, PngErrorState* st, int width, int height, int b
     return false;
   }
   png_set_write_fn(png, out, PngWriteFn, PngFlushFn);
+  // zlib level 1 with the SUB filter instead of libpng's default (level 6, adaptive filter choice):
+  // eval writes hundreds of PNGs and encoding dominated its I/O time. Measured on the 264 PNGs of
+  // a 200k-Gaussian synth eval (renders, depth pairs, masks, overlays): 2.5 ms instead of 15.8 ms
+  // per file (6.3x), 13.4 MB instead of 10.8 MB (+24%) -- docs/eval.md.
+  png_set_compression_level(png, 1);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB);
   png_set_IHDR(png, info, static_cast<png_uint_32>(width), static_cast<png_uint_32>(height), bit_depth, color_type,
                PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
   png_write_info(png, info);
