@@ -306,7 +306,7 @@ std::vector<Target> ComputeTargets(const Files& files, const json& scale) {
   }
 
   // cp against the exact parametric optimum (time and objective gap), 2 threads.
-  const Case* cp = Lookup(files, "solver_bench", "BM_Cp/2");
+  const Case* cp = Lookup(files, "solver_bench", "BM_Cp/threads:2/sat:1");
   const Case* exact = Lookup(files, "solver_bench", "BM_Exact");
   if (cp) {
     Target t;
