@@ -239,8 +239,13 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   out.decision["rule"] = decision.rule.ToString();
   out.decision["restore"] = decision.restore;
   out.message = "refined: " + std::to_string(d.added) + " Gaussians added" +
-                (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") + " (rule " +
-                decision.rule.ToString() + ", threshold " + nlohmann::json(d.threshold).dump() + ")";
+                (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") +
+                // The segment rule departs from the plain threshold, so say when it acted.
+                (d.held_back > 0 ? ", " + std::to_string(d.held_back) + " held back in " +
+                                       std::to_string(d.segments_held_back) +
+                                       (d.segments_held_back == 1 ? " segment" : " segments") + " the method mostly kept (--min-segment-share)"
+                                 : "") +
+                " (rule " + decision.rule.ToString() + ", threshold " + nlohmann::json(d.threshold).dump() + ")";
   return out;
 }
 
