@@ -64,6 +64,12 @@ RemovalSet LoadNpy(const std::string& path, const Scene& scene, const RemovalLoa
                                 "bool/uint8, or indices without this pattern");
     std::size_t dup = 0;
     ApplyIndices(path, idx, n, r.removed, dup, [](std::size_t k) { return "position " + std::to_string(k); });
+    // N integers with repeats cannot be an index list of a subset: it is per-Gaussian data (labels,
+    // a class map) passed by mistake, and reading it as indices would be a silent wrong answer.
+    if (len == n && dup > 0)
+      throw FileError(path, "integer array of length N = " + std::to_string(n) + " with " + std::to_string(dup) +
+                                " repeated values is not an index list (per-Gaussian labels?): pass the "
+                                "removed set as a bool mask or as distinct indices");
     r.stats = BaseStats("indices", len);
     r.stats["duplicates"] = dup;
     if (dup) r.warnings.push_back(path + ": " + std::to_string(dup) + " duplicate indices ignored");

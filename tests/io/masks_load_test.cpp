@@ -99,6 +99,13 @@ TEST(MasksLoad, IntegerIndicesDuplicatesRangeAndAmbiguity) {
   EXPECT_EQ(al::MaskToIndices(ok.removed), (std::vector<std::int64_t>{0, 1}));
   EXPECT_EQ(ok.stats["duplicates"], 2);
 
+  // Length N with repeats: per-Gaussian labels passed as --removed, never read as indices.
+  al::WriteNpy(p, std::vector<std::int32_t>{0, 0, 3, 3, 3, 5, 5, 0, 2, 2}, {10});
+  ExpectError(p, [&] { al::LoadRemovalSet(p, scene); }, "not an index list");
+  // A permutation of all N indices is a valid (full) removal.
+  al::WriteNpy(p, std::vector<std::int32_t>{9, 8, 7, 6, 5, 4, 3, 2, 1, 0}, {10});
+  EXPECT_EQ(al::LoadRemovalSet(p, scene).num_removed, 10u);
+
   al::WriteNpy(p, std::vector<std::int32_t>{1, 2, 3, 4}, {2, 2});
   ExpectError(p, [&] { al::LoadRemovalSet(p, scene); }, "1-D");
 }
