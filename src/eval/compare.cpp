@@ -8,40 +8,12 @@
 #include <sstream>
 
 #include "al/core/error.hpp"
+#include "al/core/text.hpp"
 #include "al/core/timer.hpp"
 #include "al/solver.hpp"
 
 namespace al {
 namespace {
-
-std::string Trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t") - b + 1);
-}
-
-std::vector<std::string> Split(const std::string& s, char sep) {
-  std::vector<std::string> parts;
-  std::string part;
-  std::istringstream in(s);
-  while (std::getline(in, part, sep)) parts.push_back(part);
-  if (!s.empty() && s.back() == sep) parts.push_back("");
-  return parts;
-}
-
-double ParseGridValue(const std::string& key, const std::string& text) {
-  const std::string t = Trim(text);
-  std::size_t used = 0;
-  double v = 0.0;
-  try {
-    v = std::stod(t, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (t.empty() || used != t.size() || !std::isfinite(v))
-    throw Error("--grid: " + key + ": '" + t + "' is not a finite number", ExitCode::kUsage);
-  return v;
-}
 
 std::string Num(double v) {
   char buf[32];
@@ -66,17 +38,17 @@ SolverGrid ParseSolverGrid(const std::string& text) {
   SolverGrid grid;
   if (Trim(text).empty()) return grid;
   std::set<std::string> seen;
-  for (const std::string& item : Split(text, ';')) {
-    if (Trim(item).empty()) continue;  // tolerate "a=1;" and "a=1;;b=2"
+  for (const std::string& item : SplitTrimmed(text, ';')) {
+    if (item.empty()) continue;  // tolerate "a=1;" and "a=1;;b=2"
     const auto eq = item.find('=');
     if (eq == std::string::npos)
-      throw Error("--grid: '" + Trim(item) + "' is not KEY=V1,V2,... (e.g. cp_dif_tol=1e-2,1e-3)",
+      throw Error("--grid: '" + item + "' is not KEY=V1,V2,... (e.g. cp_dif_tol=1e-2,1e-3)",
                   ExitCode::kUsage);
     const std::string key = Trim(item.substr(0, eq));
-    if (key.empty()) throw Error("--grid: missing key before '=' in '" + Trim(item) + "'", ExitCode::kUsage);
+    if (key.empty()) throw Error("--grid: missing key before '=' in '" + item + "'", ExitCode::kUsage);
     if (!seen.insert(key).second) throw Error("--grid: key '" + key + "' given twice", ExitCode::kUsage);
     std::vector<double> values;
-    for (const std::string& v : Split(item.substr(eq + 1), ',')) values.push_back(ParseGridValue(key, v));
+    for (const std::string& v : SplitTrimmed(item.substr(eq + 1), ',')) values.push_back(ParseGridNumber(key, v));
     if (values.empty()) throw Error("--grid: key '" + key + "' has no values", ExitCode::kUsage);
     grid.emplace_back(key, std::move(values));
   }

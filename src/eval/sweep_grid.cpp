@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "al/core/error.hpp"
+#include "al/core/text.hpp"
 #include "al/decision.hpp"
 #include "al/refine/stages.hpp"
 #include "al/refine/sweep.hpp"
@@ -17,38 +18,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string Trim(const std::string& s) {
-  const auto b = s.find_first_not_of(" \t\r\n");
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(" \t\r\n") - b + 1);
-}
-
-std::vector<std::string> Split(const std::string& s, char sep) {
-  std::vector<std::string> out;
-  std::string part;
-  std::istringstream in(s);
-  while (std::getline(in, part, sep)) out.push_back(Trim(part));
-  if (!s.empty() && s.back() == sep) out.push_back("");
-  return out;
-}
-
 std::string GridError(const std::string& what) { return "--grid: " + what; }
 
-double ParseNumber(const std::string& key, const std::string& text) {
-  std::size_t used = 0;
-  double v = 0;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used != text.size() || text.empty() || !std::isfinite(v))
-    throw Error(GridError(key + ": '" + text + "' is not a number"), ExitCode::kUsage);
-  return v;
-}
-
 int ParseInt(const std::string& key, const std::string& text) {
-  const double v = ParseNumber(key, text);
+  const double v = ParseGridNumber(key, text);
   if (v != std::floor(v) || std::abs(v) > 1e9)
     throw Error(GridError(key + ": '" + text + "' is not an integer"), ExitCode::kUsage);
   return static_cast<int>(v);
@@ -71,13 +44,13 @@ std::size_t SweepGrid::size() const {
 SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
   SweepGrid g;
   std::set<std::string> seen;
-  for (const std::string& item : Split(text, ';')) {
+  for (const std::string& item : SplitTrimmed(text, ';')) {
     if (item.empty()) continue;  // tolerate "a=1;;b=2" and a trailing ';'
     const auto eq = item.find('=');
     if (eq == std::string::npos) throw Error(GridError("expected key=v1,v2,... in '" + item + "'"), ExitCode::kUsage);
     const std::string key = Trim(item.substr(0, eq));
     if (!seen.insert(key).second) throw Error(GridError("'" + key + "' given twice"), ExitCode::kUsage);
-    const std::vector<std::string> values = Split(item.substr(eq + 1), ',');
+    const std::vector<std::string> values = SplitTrimmed(item.substr(eq + 1), ',');
     if (values.empty()) throw Error(GridError(key + ": no values"), ExitCode::kUsage);
     for (const std::string& v : values) {
       if (v.empty()) throw Error(GridError(key + ": empty value"), ExitCode::kUsage);
@@ -86,17 +59,17 @@ SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
         if (k < 1) throw Error(GridError("k must be >= 1"), ExitCode::kUsage);
         PushUnique(g.k, k);
       } else if (key == "delta") {
-        PushUnique(g.delta, ParseNumber(key, v));
+        PushUnique(g.delta, ParseGridNumber(key, v));
       } else if (key == "hops") {
         const int h = ParseInt(key, v);
         if (h < 1) throw Error(GridError("hops must be >= 1"), ExitCode::kUsage);
         PushUnique(g.hops, h);
       } else if (key == "radius_scale") {
-        const double r = ParseNumber(key, v);
+        const double r = ParseGridNumber(key, v);
         if (!(r > 0)) throw Error(GridError("radius_scale must be > 0"), ExitCode::kUsage);
         PushUnique(g.radius_scale, r);
       } else if (key == "lambda") {
-        const double l = ParseNumber(key, v);
+        const double l = ParseGridNumber(key, v);
         if (!(l >= 0)) throw Error(GridError("lambda must be >= 0"), ExitCode::kUsage);
         PushUnique(g.lambda, l);
       } else if (key == "solver") {
@@ -107,7 +80,7 @@ SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
       } else if (key == "threshold") {
         PushUnique(g.threshold, ParseDecisionRule(v).ToString());
       } else if (key == "segment_share") {
-        const double m = ParseNumber(key, v);
+        const double m = ParseGridNumber(key, v);
         if (!(m >= 0 && m <= 1)) throw Error(GridError("segment_share must be in [0, 1]"), ExitCode::kUsage);
         PushUnique(g.segment_share, m);
       } else {
