@@ -1,12 +1,13 @@
-// Boykov-Kolmogorov max-flow (see max_flow.hpp). Two search trees grow from the terminals over
-// non-saturated arcs; when they touch, the path is augmented, saturated tree arcs turn their child
-// into an orphan, and orphans try to re-attach to a node of their own tree whose root path is still
-// valid ("adoption", with timestamps/distances so validity checks stop early and prefer short paths).
-// Unlike Dinic, the trees survive augmentations, which is why this is much faster on the kNN graphs
-// of al-refine (few long augmenting paths, many short ones).
+// Boykov-Kolmogorov max-flow (phase 2 of MaxFlow::Solve, see max_flow.hpp). Two search trees grow
+// from the terminals over non-saturated arcs; when they touch, the path is augmented, saturated tree
+// arcs turn their child into an orphan, and orphans try to re-attach to a node of their own tree whose
+// root path is still valid ("adoption", with timestamps/distances so validity checks stop early and
+// prefer short paths). Unlike Dinic, the trees survive augmentations, which is why this is much
+// faster on the kNN graphs of al-refine (few long augmenting paths, many short ones).
 //
 // Conventions: node.parent is the arc v -> parent. In the source tree flow runs parent -> v, so the
 // arc that must stay non-saturated is the parent arc's sister; in the sink tree the parent arc itself.
+// Node terminal residuals (tr) may already hold a pseudoflow's excesses when this phase starts.
 #include "max_flow.hpp"
 
 #include <algorithm>
@@ -16,8 +17,9 @@ namespace al {
 
 void MaxFlow::Reset(std::int32_t num_nodes) {
   n_ = num_nodes;
-  flow_ = 0.0;
-  augmentations_ = 0;
+  constant_ = 0.0;
+  stats_ = Stats{};
+  work_ = 0;
   eu_.clear();
   ev_.clear();
   ecap_uv_.clear();
@@ -30,7 +32,7 @@ void MaxFlow::AddTerminal(std::int32_t v, double source_cap, double sink_cap) {
   const double delta = user_tr_[v];
   if (delta > 0.0) source_cap += delta;
   else sink_cap -= delta;
-  flow_ += std::min(source_cap, sink_cap);
+  constant_ += std::min(source_cap, sink_cap);
   user_tr_[v] = source_cap - sink_cap;
 }
 
@@ -130,12 +132,16 @@ void MaxFlow::Augment(std::int32_t middle) {
   const std::int32_t s_end = arcs_[arcs_[middle].sister].head, t_end = arcs_[middle].head;
   double f = arcs_[middle].rcap;
   std::int32_t v = s_end;
-  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head)
+  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head) {
     f = std::min(f, arcs_[arcs_[a].sister].rcap);
+    ++work_;
+  }
   f = std::min(f, nodes_[v].tr);
   v = t_end;
-  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head)
+  for (std::int32_t a; (a = nodes_[v].parent) != kTerminal; v = arcs_[a].head) {
     f = std::min(f, arcs_[a].rcap);
+    ++work_;
+  }
   f = std::min(f, -nodes_[v].tr);
 
   arcs_[middle].rcap -= f;
@@ -166,8 +172,7 @@ void MaxFlow::Augment(std::int32_t middle) {
     if (!(arcs_[a].rcap > 0.0)) MakeOrphan(v);
     v = up;
   }
-  flow_ += f;
-  ++augmentations_;
+  ++stats_.augmentations;
 }
 
 void MaxFlow::ProcessOrphan(std::int32_t v) {
@@ -175,6 +180,7 @@ void MaxFlow::ProcessOrphan(std::int32_t v) {
   constexpr std::int32_t kInfDist = std::numeric_limits<std::int32_t>::max();
   std::int32_t best_arc = kFree, best_dist = kInfDist;
   for (std::int32_t a0 = nodes_[v].first; a0 < nodes_[v + 1].first; ++a0) {
+    ++work_;
     // The arc that would carry flow between v and the candidate parent j must be non-saturated.
     if (!((sink ? arcs_[a0].rcap : arcs_[arcs_[a0].sister].rcap) > 0.0)) continue;
     const std::int32_t j = arcs_[a0].head;
@@ -182,6 +188,7 @@ void MaxFlow::ProcessOrphan(std::int32_t v) {
     // Is j's root path still valid (ends at the terminal without meeting an orphan)?
     std::int32_t d = 0, k = j;
     while (true) {
+      ++work_;
       if (nodes_[k].ts == time_) { d += nodes_[k].dist; break; }
       const std::int32_t a = nodes_[k].parent;
       ++d;
@@ -221,20 +228,31 @@ void MaxFlow::Adopt() {
 }
 
 double MaxFlow::Solve() {
-  const std::int32_t n = n_;
   Build();
-  for (std::int32_t v = 0; v < n; ++v) {
-    Node& x = nodes_[v];
-    x.parent = kFree;
-    x.sink = 0;
-    x.ts = 0;
-    x.dist = 0;
-    x.next = kNotQueued;
+  GreedyPreflow();
+  switch (algorithm_) {
+    case Algorithm::kHybrid:
+      // BK alone is best when it is done after about one sweep over the network (little flow, or
+      // most excess stranded: 1.0-1.5 sweeps on every such cut measured); cuts that need long-range
+      // transport take it 14-42 sweeps, and pseudoflow 2-10x less time (docs/solvers.md "max-flow").
+      if (!BoykovKolmogorov(2 * (static_cast<std::int64_t>(n_) + static_cast<std::int64_t>(arcs_.size())))) {
+        Pseudoflow();
+        BoykovKolmogorov(-1);
+      }
+      break;
+    case Algorithm::kPseudoflowThenBk:
+      Pseudoflow();
+      BoykovKolmogorov(-1);
+      break;
+    case Algorithm::kBoykovKolmogorov:
+      BoykovKolmogorov(-1);
+      break;
   }
-  queue_first_ = queue_last_ = kQueueEnd;
-  orphans_.clear();
-  orphan_head_ = 0;
-  time_ = 0;
+  return CutValue();
+}
+
+void MaxFlow::GreedyPreflow() {
+  const std::int32_t n = n_;
   // Greedy pre-flow over source-node -> sink-node arcs. When unaries dominate the edge capacities
   // (typical for cut pursuit splits and level cuts) most of the flow goes along such 3-arc paths;
   // pushing it in one linear pass saves the tree growth/adoption work of one augmentation each.
@@ -247,9 +265,24 @@ double MaxFlow::Solve() {
       arcs_[arcs_[a].sister].rcap += f;
       nodes_[u].tr -= f;
       nodes_[v].tr += f;
-      flow_ += f;
     }
   }
+}
+
+bool MaxFlow::BoykovKolmogorov(std::int64_t max_work) {
+  const std::int32_t n = n_;
+  for (std::int32_t v = 0; v < n; ++v) {
+    Node& x = nodes_[v];
+    x.parent = kFree;
+    x.sink = 0;
+    x.ts = 0;
+    x.dist = 0;
+    x.next = kNotQueued;
+  }
+  queue_first_ = queue_last_ = kQueueEnd;
+  orphans_.clear();
+  orphan_head_ = 0;
+  time_ = 0;
   for (std::int32_t v = 0; v < n; ++v) {
     if (nodes_[v].tr == 0.0) continue;
     nodes_[v].parent = kTerminal;
@@ -268,6 +301,7 @@ double MaxFlow::Solve() {
     // Growth: claim free neighbours; a neighbour of the other tree closes a path.
     if (!nodes_[i].sink) {
       for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
+        ++work_;
         if (!(arcs_[a].rcap > 0.0)) continue;
         const std::int32_t j = arcs_[a].head;
         if (nodes_[j].parent == kFree) {
@@ -287,6 +321,7 @@ double MaxFlow::Solve() {
       }
     } else {
       for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
+        ++work_;
         if (!(arcs_[arcs_[a].sister].rcap > 0.0)) continue;
         const std::int32_t j = arcs_[a].head;
         if (nodes_[j].parent == kFree) {
@@ -312,9 +347,26 @@ double MaxFlow::Solve() {
     ++time_;
     Augment(middle);
     Adopt();
+    if (max_work >= 0 && work_ > max_work) return false;
     // i stays current: it may touch the other tree again through another arc.
   }
-  return flow_;
+  return true;
+}
+
+double MaxFlow::CutValue() const {
+  // From the capacities as given (not the flow pushed), so both algorithms report the same number
+  // for the same cut and the exact solver's "no gain" test compares like with like.
+  double cut = constant_;
+  for (std::int32_t v = 0; v < n_; ++v) {
+    const double t = user_tr_[v];
+    if (SourceSide(v) ? t < 0.0 : t > 0.0) cut += t < 0.0 ? -t : t;
+  }
+  for (std::size_t e = 0; e < eu_.size(); ++e) {
+    const bool su = SourceSide(eu_[e]), sv = SourceSide(ev_[e]);
+    if (su && !sv) cut += ecap_uv_[e];
+    else if (!su && sv) cut += ecap_vu_[e];
+  }
+  return cut;
 }
 
 }  // namespace al

@@ -1,18 +1,25 @@
 // The project's one max-flow / minimum s-t cut module, shared by the bk, cp and exact solvers.
 //
-// MaxFlow: Boykov-Kolmogorov augmenting paths with search-tree reuse (Boykov & Kolmogorov, PAMI
-// 2004), written for this project from the paper (the GPL codes of Kolmogorov / pcp are not used).
-// Terminal arcs are stored in the nodes (one signed residual per node), arcs in CSR form built once
-// per Solve(); all buffers are kept between Reset() calls so the many small cuts of cut pursuit and
-// of the exact level-set solver allocate nothing in steady state. Deterministic (no randomness,
-// arcs visited in insertion order).
+// MaxFlow::Solve() runs two phases on one residual network (CSR arcs built once per Solve(); all
+// buffers kept between Reset() calls, so the many small cuts of cut pursuit and of the exact level-set
+// solver allocate nothing in steady state; deterministic: no randomness, fixed visiting orders):
+//  1. pseudoflow (pseudoflow.cpp): Hochbaum's highest-label pseudoflow algorithm (Operations
+//     Research 56(4), 2008), written for this project from the paper. It moves the bulk of the flow
+//     by merging trees of excess into trees of deficit, which is what the balanced, long-range cuts
+//     of cut pursuit need (docs/solvers.md "max-flow": 1.6-3x faster than BK alone there);
+//  2. Boykov-Kolmogorov augmenting paths with search-tree reuse (Boykov & Kolmogorov, PAMI 2004;
+//     max_flow.cpp), started from whatever phase 1 left. Any pseudoflow is a valid start once node
+//     excesses are read as terminal residuals, so the result is exact whatever phase 1 did; after a
+//     complete phase 1 this pass finds no augmenting path and only grows the final search trees.
+// Algorithm::kBoykovKolmogorov skips phase 1 (the former behaviour; kept for tests and benchmarks).
+// The GPL codes of Kolmogorov / pcp and the academic-licence HPF code are not used.
 //
 // Cut cost of a partition (S = source side, T = sink side):
 //   sum_{v in T} source_cap[v] + sum_{v in S} sink_cap[v]
 //   + sum_{edges u->v with u in S, v in T} cap(u->v)
 // i.e. source_cap[v] is what v pays for ending on the sink side, sink_cap[v] what it pays for the
 // source side. The returned source side is the set of nodes reachable from the source in the final
-// residual graph (the smallest minimum-cut source set).
+// residual graph (the smallest minimum-cut source set), whichever algorithm ran.
 //
 // MinCutLabels: the same cut on the RefineProblem CSR layout with input validation and +infinity
 // capacities (hard constraints). MinCutLabelsBoost: identical contract computed with Boost.Graph's
@@ -23,10 +30,27 @@
 #include <span>
 #include <vector>
 
+#include "al/core/huge_page_allocator.hpp"
+
 namespace al {
 
 class MaxFlow {
  public:
+  enum class Algorithm {
+    kPseudoflowThenBk,  // default: phase 1 + 2 above
+    kBoykovKolmogorov,  // phase 2 only
+    kHybrid,
+  };
+  // Work counters of the last Solve() (diagnostics; never influence the result).
+  struct Stats {
+    std::int64_t augmentations = 0;        // BK augmenting paths
+    std::int64_t mergers = 0;              // pseudoflow: trees of excess hung below another tree
+    std::int64_t relabels = 0;             // pseudoflow: node label increments
+    std::int64_t gap_lifts = 0;            // pseudoflow: trees found unable to reach a deficit
+    bool budget_exhausted = false;         // pseudoflow stopped by its safety valve (BK finished)
+  };
+
+  void set_algorithm(Algorithm algorithm) { algorithm_ = algorithm; }
   // Starts a new network of num_nodes nodes without terminal capacities or edges.
   void Reset(std::int32_t num_nodes);
   // Adds terminal capacities (both >= 0, finite): source_cap is paid when v ends on the sink side,
@@ -36,7 +60,8 @@ class MaxFlow {
   void AddUnary(std::int32_t v, double a) { a > 0.0 ? AddTerminal(v, a, 0.0) : AddTerminal(v, 0.0, -a); }
   // Edge with capacity cap_uv from u to v and cap_vu from v to u (finite, >= 0; u != v).
   void AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu);
-  // Computes the maximum flow; returns the minimum cut value (terminal constants included).
+  // Computes a maximum flow; returns the cost of the returned minimum cut (terminal constants
+  // included), summed in a fixed order from the capacities as given.
   double Solve();
   // After Solve(): true if v is on the source side of the minimum cut.
   bool SourceSide(std::int32_t v) const {
@@ -44,7 +69,8 @@ class MaxFlow {
     return x.parent != kFree && !x.sink;
   }
   std::int32_t num_nodes() const { return n_; }
-  std::int64_t num_augmentations() const { return augmentations_; }
+  std::int64_t num_augmentations() const { return stats_.augmentations; }
+  const Stats& stats() const { return stats_; }
 
  private:
   static constexpr std::int32_t kFree = -1, kTerminal = -2, kOrphan = -3;
@@ -68,7 +94,33 @@ class MaxFlow {
     double rcap;          // residual capacity
   };
 
+  // Per-node state of the pseudoflow phase: the tree the node belongs to (children in a doubly
+  // linked sibling list, so a split is O(1)), its label, and the scan positions of the search.
+  struct TreeNode {
+    std::int32_t label;
+    std::int32_t parent;        // -1 for a root (only roots carry excess)
+    std::int32_t parent_arc;    // arc node -> parent
+    std::int32_t first_child, next_sibling, prev_sibling;
+    std::int32_t next_scan;     // next child to visit in the depth-first search
+    std::int32_t next_arc;      // first arc not yet known to be useless at the current label
+    std::int32_t bucket_next;   // FIFO link among the strong roots of one label
+  };
+
   void Build();
+  double CutValue() const;
+  void GreedyPreflow();
+  bool BoykovKolmogorov(std::int64_t max_work);
+  void Pseudoflow();
+  void TreeLink(std::int32_t child, std::int32_t parent, std::int32_t arc);
+  void TreeUnlink(std::int32_t child);
+  void BucketAdd(std::int32_t root);
+  std::int32_t BucketPop(std::int32_t label);
+  std::int32_t HighestStrongRoot();
+  void SetLabels(std::int32_t root, std::int32_t only_label, std::int32_t to);
+  void ProcessRoot(std::int32_t root);
+  std::int32_t FindMerger(std::int32_t v, std::int32_t label);
+  bool RelabelIfDone(std::int32_t v, std::int32_t label);
+  void MergeAndPush(std::int32_t strong_node, std::int32_t arc, std::int32_t root);
   void Activate(std::int32_t v);
   std::int32_t NextActive();
   void MakeOrphan(std::int32_t v);
@@ -76,22 +128,32 @@ class MaxFlow {
   void Adopt();
   void ProcessOrphan(std::int32_t v);
 
+  Algorithm algorithm_ = Algorithm::kHybrid;
   std::int32_t n_ = 0;
-  double flow_ = 0.0;
-  std::int64_t augmentations_ = 0;
+  double constant_ = 0.0;  // common part of the terminal capacities: paid by every cut
+  Stats stats_;
+  std::int64_t work_ = 0;  // BK arc and tree-path visits: its running cost, for the hybrid's budget
+  // Large per-cut buffers: huge pages make their first touch cheap (huge_page_allocator.hpp).
+  template <class T>
+  using Buffer = std::vector<T, HugePageAllocator<T>>;
   // Input in the caller's numbering (until Build()).
-  std::vector<double> user_tr_;
-  std::vector<std::int32_t> eu_, ev_;
-  std::vector<double> ecap_uv_, ecap_vu_;
+  Buffer<double> user_tr_;
+  Buffer<std::int32_t> eu_, ev_;
+  Buffer<double> ecap_uv_, ecap_vu_;
   // Internal numbering: breadth-first order over the edges (perm_[user id] = internal id), so that
   // nodes adjacent in the graph are mostly adjacent in memory whatever the caller's numbering.
-  std::vector<std::int32_t> perm_, order_, ufirst_, uadj_, uslot_;
-  std::vector<Node> nodes_;  // n + 1 (sentinel)
-  std::vector<Arc> arcs_;
+  Buffer<std::int32_t> perm_, order_, ufirst_, uadj_, uslot_;
+  Buffer<Node> nodes_;  // n + 1 (sentinel)
+  Buffer<Arc> arcs_;
   std::int32_t queue_first_ = kQueueEnd, queue_last_ = kQueueEnd;
   std::vector<std::int32_t> orphans_;
   std::size_t orphan_head_ = 0;
   std::int32_t time_ = 0;
+  // Pseudoflow phase.
+  Buffer<TreeNode> tree_;
+  Buffer<std::int32_t> bucket_first_, bucket_last_, label_count_;
+  std::vector<std::int32_t> stack_;
+  std::int32_t highest_ = 0;
 };
 
 struct MinCutResult {

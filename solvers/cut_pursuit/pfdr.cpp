@@ -37,10 +37,13 @@ double DistM(const double* a, const double* b, const std::vector<double>& m, int
   return s;
 }
 
-}  // namespace
-
-int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<double>& X) {
-  const int D = rp.D;
+// kD > 0 fixes the number of labels at compile time (the product's D = 2: the per-coordinate loops
+// unroll); kD = 0 reads it from the problem. Both run the same arithmetic in the same order.
+template <int kD>
+int SolveReducedImpl(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<double>& X) {
+  const int D = kD > 0 ? kD : rp.D;
+  const Loss loss = rp.loss;  // a local copy: stores to the iterates cannot alias it, so its
+                              // constants are hoisted out of the loops
   const std::int32_t rV = rp.rV;
   const std::size_t nE = rp.ea.size();
   X.assign(rp.Ybar.begin(), rp.Ybar.end());
@@ -48,7 +51,7 @@ int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<d
   std::vector<std::int32_t> degree(rV, 0);
   for (std::size_t e = 0; e < nE; ++e) { ++degree[rp.ea[e]]; ++degree[rp.eb[e]]; }
   for (std::int32_t c = 0; c < rV; ++c)
-    if (degree[c] == 0) ClosedFormValue(rp.loss, D, &rp.Ybar[c * D], &X[c * D]);
+    if (degree[c] == 0) ClosedFormValue(loss, D, &rp.Ybar[c * D], &X[c * D]);
   if (nE == 0) return 0;
   // Ends of each component in edge order (CSR), for the fixed-order averaging of Z.
   std::vector<std::int64_t> end_first(rV + 1, 0);
@@ -71,8 +74,8 @@ int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<d
     std::vector<double> H(rV * D), L(rV * D);
     for (std::int32_t c = 0; c < rV; ++c)
       for (int d = 0; d < D; ++d) {
-        L[c * D + d] = rp.W[c] * rp.loss.Lipschitz(rp.Ybar[c * D + d]);
-        H[c * D + d] = rp.W[c] * rp.loss.Hess(rp.Ybar[c * D + d], X[c * D + d]);
+        L[c * D + d] = rp.W[c] * loss.Lipschitz(rp.Ybar[c * D + d]);
+        H[c * D + d] = rp.W[c] * loss.Hess(rp.Ybar[c * D + d], X[c * D + d]);
       }
     for (std::size_t e = 0; e < nE; ++e) {
       const double* xa = &X[rp.ea[e] * D];
@@ -121,7 +124,9 @@ int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<d
   double dif_rcd = opt.dif_rcd;
   const int check = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(opt.it_max))));
   const int threads = opt.num_threads > 0 ? opt.num_threads : omp_get_max_threads();
-  const bool par = rV * D + static_cast<std::int64_t>(nE) > 20000;
+  // Three barriers per iteration cost a few microseconds; below a few thousand unknowns they
+  // outweigh the split work.
+  const bool par = rV * D + static_cast<std::int64_t>(nE) > 4000;
   Xprev = X;
   int it = 0;
   while (it < opt.it_max) {
@@ -131,7 +136,7 @@ int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<d
       for (std::int32_t c = 0; c < rV; ++c)
         for (int d = 0; d < D; ++d) {
           const std::size_t i = c * D + d;
-          P[i] = 2.0 * X[i] - Gamma[i] * rp.W[c] * rp.loss.Grad(rp.Ybar[i], X[i]);
+          P[i] = 2.0 * X[i] - Gamma[i] * rp.W[c] * loss.Grad(rp.Ybar[i], X[i]);
         }
 #pragma omp for schedule(static)
       for (std::int64_t e = 0; e < static_cast<std::int64_t>(nE); ++e) {
@@ -179,6 +184,12 @@ int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<d
     }
   }
   return it;
+}
+
+}  // namespace
+
+int SolveReduced(const ReducedProblem& rp, const PfdrOptions& opt, std::vector<double>& X) {
+  return rp.D == 2 ? SolveReducedImpl<2>(rp, opt, X) : SolveReducedImpl<0>(rp, opt, X);
 }
 
 }  // namespace al::cp

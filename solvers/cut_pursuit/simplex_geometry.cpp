@@ -63,11 +63,23 @@ void ProjectDirection(const double* X, const double* r, int D, double eps, bool 
 
 void ProjectSimplexMetric(double* x, const double* gamma, int D) {
   // x_d = max(0, x_d - lambda gamma_d) with sum 1; breakpoints x_d / gamma_d visited downwards.
-  thread_local std::vector<int> order;
-  order.resize(D);
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(),
-            [&](int a, int b) { return x[a] / gamma[a] > x[b] / gamma[b] || (x[a] / gamma[a] == x[b] / gamma[b] && a < b); });
+  auto before = [&](int a, int b) {
+    return x[a] / gamma[a] > x[b] / gamma[b] || (x[a] / gamma[a] == x[b] / gamma[b] && a < b);
+  };
+  // PFDR calls this once per component and iteration: D = 2 (the product) needs one comparison, not
+  // a sort of a thread_local buffer; the order, hence every result bit, is the same.
+  int pair[2];
+  thread_local std::vector<int> buffer;
+  int* order = pair;
+  if (D == 2) {
+    pair[0] = before(1, 0) ? 1 : 0;
+    pair[1] = 1 - pair[0];
+  } else {
+    buffer.resize(D);
+    std::iota(buffer.begin(), buffer.end(), 0);
+    std::sort(buffer.begin(), buffer.end(), before);
+    order = buffer.data();
+  }
   double sx = 0.0, sg = 0.0, lambda = 0.0;
   for (int k = 0; k < D; ++k) {
     sx += x[order[k]];

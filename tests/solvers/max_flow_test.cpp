@@ -1,12 +1,16 @@
-// The shared max-flow (solvers/bk/max_flow.hpp): al::MaxFlow against brute force on small random
-// networks (cut value, and the returned source side is exactly the smallest minimum-cut source set
-// when capacities are small integers, so arithmetic is exact), one network object reused across
-// differently sized problems (buffer reuse must not leak state), and agreement with the independent
-// Boost Boykov-Kolmogorov reference on a 3,000-node kNN level cut.
+// The shared max-flow (solvers/bk/max_flow.hpp), for each of its algorithms (the default hybrid,
+// pseudoflow then BK, BK alone): against brute force on small random networks (cut value, and the
+// returned source side is exactly the smallest minimum-cut source set when capacities are small
+// integers, so arithmetic is exact), one network object reused across differently sized problems
+// (buffer reuse must not leak state), the three algorithms against each other on kNN level cuts
+// where the hybrid does hand over to pseudoflow, pseudoflow alone leaving the BK completion nothing
+// to augment (it is a maximum-flow algorithm by itself), degenerate networks, and agreement with the
+// independent Boost Boykov-Kolmogorov reference on a 3,000-node kNN level cut.
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -52,6 +56,10 @@ Net RandomNet(std::mt19937& rng, int V, bool integral) {
   return n;
 }
 
+using Algorithm = al::MaxFlow::Algorithm;
+const Algorithm kAlgorithms[] = {Algorithm::kHybrid, Algorithm::kPseudoflowThenBk,
+                                 Algorithm::kBoykovKolmogorov};
+
 double Solve(al::MaxFlow& mf, const Net& n) {
   mf.Reset(n.V);
   for (int v = 0; v < n.V; ++v) {
@@ -62,9 +70,12 @@ double Solve(al::MaxFlow& mf, const Net& n) {
   return mf.Solve();
 }
 
-TEST(MaxFlow, MatchesBruteForceAndReturnsSmallestSourceSet) {
+class MaxFlowAlgorithm : public ::testing::TestWithParam<Algorithm> {};
+
+TEST_P(MaxFlowAlgorithm, MatchesBruteForceAndReturnsSmallestSourceSet) {
   std::mt19937 rng(2026);
   al::MaxFlow mf;  // one object for every trial: Reset must clear all state
+  mf.set_algorithm(GetParam());
   for (int trial = 0; trial < 300; ++trial) {
     const bool integral = trial % 2 == 0;
     const Net n = RandomNet(rng, 1 + trial % 13, integral);
@@ -82,8 +93,118 @@ TEST(MaxFlow, MatchesBruteForceAndReturnsSmallestSourceSet) {
     EXPECT_NEAR(CutCost(n, got), best, 1e-9 * (1.0 + best)) << "trial " << trial;
     if (integral) {
       EXPECT_EQ(got, smallest) << "trial " << trial;
+      // Exact arithmetic: a complete pseudoflow phase leaves no augmenting path for BK.
+      if (GetParam() == Algorithm::kPseudoflowThenBk) {
+        EXPECT_EQ(mf.stats().augmentations, 0) << "trial " << trial;
+      }
     }
   }
+}
+
+// Degenerate networks: no edges, zero capacities, isolated nodes, parallel edges, one-sided
+// terminals, capacities spread over 16 orders of magnitude. Every algorithm must return a cut whose
+// cost is the brute-force minimum and the same source side as the others.
+TEST_P(MaxFlowAlgorithm, DegenerateNetworks) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  al::MaxFlow mf, reference;
+  mf.set_algorithm(GetParam());
+  reference.set_algorithm(Algorithm::kBoykovKolmogorov);
+  for (int trial = 0; trial < 200; ++trial) {
+    Net n;
+    n.V = 1 + trial % 12;
+    const int kind = trial % 5;
+    auto cap = [&]() {
+      if (kind == 4) return std::pow(10.0, -8.0 + 16.0 * uni(rng));  // 1e-8 .. 1e8
+      return uni(rng) < 0.3 ? 0.0 : uni(rng);
+    };
+    for (int v = 0; v < n.V; ++v) {
+      n.src.push_back(kind == 1 ? cap() : (kind == 2 ? 0.0 : cap()));
+      n.snk.push_back(kind == 2 ? cap() : (kind == 1 ? 0.0 : cap()));
+    }
+    if (kind != 0)
+      for (int u = 0; u < n.V; ++u)
+        for (int v = u + 1; v < n.V; ++v)
+          if (uni(rng) < 0.4) {
+            n.edges.push_back({u, v, cap(), cap()});
+            if (kind == 3) n.edges.push_back({v, u, cap(), cap()});  // parallel, reversed
+          }
+    const double value = Solve(mf, n);
+    Solve(reference, n);
+    double best = std::numeric_limits<double>::infinity();
+    for (std::uint32_t S = 0; S < (1u << n.V); ++S) best = std::min(best, CutCost(n, S));
+    std::uint32_t got = 0, ref = 0;
+    for (int v = 0; v < n.V; ++v) {
+      got |= mf.SourceSide(v) ? (1u << v) : 0u;
+      ref |= reference.SourceSide(v) ? (1u << v) : 0u;
+    }
+    const double tol = 1e-12 * (1.0 + best) + (kind == 4 ? 1e-7 : 0.0);
+    EXPECT_NEAR(value, best, tol) << "trial " << trial;
+    EXPECT_NEAR(CutCost(n, got), best, tol) << "trial " << trial;
+    if (kind != 4) {
+      EXPECT_EQ(got, ref) << "trial " << trial;
+    }
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Algorithms, MaxFlowAlgorithm, ::testing::ValuesIn(kAlgorithms),
+                         [](const ::testing::TestParamInfo<Algorithm>& info) {
+                           switch (info.param) {
+                             case Algorithm::kHybrid: return std::string("Hybrid");
+                             case Algorithm::kPseudoflowThenBk: return std::string("PseudoflowThenBk");
+                             case Algorithm::kBoykovKolmogorov: return std::string("BoykovKolmogorov");
+                           }
+                           return std::string("Unknown");
+                         });
+
+// Cuts of a 20k-node kNN graph: level cuts of its refinement problem (most excess stranded: BK's
+// kind of cut) and a balanced cut of zero-mean noise, where excess and deficit interleave everywhere
+// and the flow has to travel across the graph, as in cut pursuit's re-splits (BK needs many sweeps,
+// so the hybrid hands over to pseudoflow). All algorithms return the same source side and cut value.
+TEST(MaxFlow, AlgorithmsAgreeOnKnnCuts) {
+  const al::RefineProblem pb = al::cp::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 11);
+  const al::cp::Loss loss{0.1, 2};
+  const std::int32_t V = static_cast<std::int32_t>(pb.num_nodes());
+  std::vector<std::vector<double>> unaries;
+  for (double t : {0.3, 0.45, 0.6}) {
+    unaries.emplace_back(V);
+    for (std::int32_t v = 0; v < V; ++v)
+      unaries.back()[v] = loss.Grad(pb.y_remove[v], t) - loss.Grad(1.0 - pb.y_remove[v], 1.0 - t);
+  }
+  std::mt19937 rng(5);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  unaries.emplace_back(V);
+  double mean = 0.0;
+  for (auto& a : unaries.back()) mean += (a = noise(rng)) / V;
+  for (auto& a : unaries.back()) a -= mean;
+  bool handed_over = false;
+  for (std::size_t k = 0; k < unaries.size(); ++k) {
+    al::MaxFlow mf[3];
+    double value[3];
+    for (int a = 0; a < 3; ++a) {
+      mf[a].set_algorithm(kAlgorithms[a]);
+      mf[a].Reset(V);
+      for (std::int32_t v = 0; v < V; ++v) mf[a].AddUnary(v, unaries[k][v]);
+      for (std::int32_t u = 0; u < V; ++u)
+        for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e)
+          mf[a].AddEdge(u, pb.adj_vertices[e], 2.0 * pb.edge_weights[e], 2.0 * pb.edge_weights[e]);
+      value[a] = mf[a].Solve();
+    }
+    handed_over = handed_over || mf[0].stats().mergers > 0;
+    EXPECT_EQ(mf[1].stats().augmentations, 0) << "cut " << k;  // pseudoflow finished the job
+    std::int32_t differ = 0, source = 0;
+    for (std::int32_t v = 0; v < V; ++v) {
+      differ += mf[0].SourceSide(v) != mf[2].SourceSide(v);
+      differ += mf[1].SourceSide(v) != mf[2].SourceSide(v);
+      source += mf[2].SourceSide(v);
+    }
+    EXPECT_EQ(differ, 0) << "cut " << k;
+    EXPECT_GT(source, 0) << "cut " << k;
+    EXPECT_LT(source, V) << "cut " << k;
+    EXPECT_NEAR(value[0], value[2], 1e-12 * value[2]) << "cut " << k;
+    EXPECT_NEAR(value[1], value[2], 1e-12 * value[2]) << "cut " << k;
+  }
+  EXPECT_TRUE(handed_over) << "no cut was hard enough to exercise the hybrid's pseudoflow phase";
 }
 
 TEST(MaxFlow, AgreesWithBoostOnKnnLevelCut) {
