@@ -1,7 +1,9 @@
 // cp vs exact on a generated 100k-node kNN graph (k = 10, CUT_PURSUIT.md §10 setup, soft y, s = 0.1,
 // w_e = 0.1). Reports medians over 5 repetitions and the relative objective gap of cp to exact
 // (target: gap <= 1e-3 in < 1 s on 2 cores). The exact optimum is computed once and cached.
-// BM_Cp/threads:1/sat:0 is cp without the split-remainder saturation (docs/solvers.md "cp speed").
+// Baselines in the same run (docs/solvers.md "cp speed"): BM_Cp/.../sat:0 is cp without the
+// split-remainder saturation; .../maxflow:bk (and BM_Exact/maxflow:bk) run every cut with
+// Boykov-Kolmogorov alone, the max-flow before the hybrid with pseudoflow.
 // BM_MaxFlowBalancedCut compares the shared max-flow (solvers/bk/max_flow.hpp, own
 // Boykov-Kolmogorov) with Boost's boykov_kolmogorov_max_flow on the hardest kind of cut both solvers
 // issue: the level cut at the best constant value, where sources and sinks balance and the flow has
@@ -37,13 +39,18 @@ double SumOf(const nlohmann::json& values) {
   return s;
 }
 
+// Max-flow algorithm of an argument: 0 = the default hybrid, 1 = BK alone (the former algorithm).
+const char* MaxFlowArg(std::int64_t arg) { return arg == 0 ? "hybrid" : "bk"; }
+
 // Args: threads, saturate_split_remainders (1 = default; 0 = the spec's saturation rule only, the
-// pre-change baseline measured in the same run). process_cpu_s is the CPU time of all threads
-// (Google Benchmark's CPU column counts the main thread only); split_nodes = vertices offered to
-// the split over all iterations (the max-flow work the saturation rule removes).
+// pre-change baseline measured in the same run), max-flow (0 = hybrid default, 1 = BK alone).
+// process_cpu_s is the CPU time of all threads (Google Benchmark's CPU column counts the main thread
+// only); split_nodes = vertices offered to the split over all iterations (the max-flow work the
+// saturation rule removes).
 void BM_Cp(benchmark::State& state) {
-  const auto solver = al::MakeSolver(
-      "cp", {{"num_threads", state.range(0)}, {"saturate_split_remainders", state.range(1) != 0}});
+  const auto solver = al::MakeSolver("cp", {{"num_threads", state.range(0)},
+                                            {"saturate_split_remainders", state.range(1) != 0},
+                                            {"max_flow", MaxFlowArg(state.range(2))}});
   const double exact = ExactObjective();
   al::SolverResult r;
   double cpu = 0.0;
@@ -65,8 +72,9 @@ void BM_Cp(benchmark::State& state) {
   state.counters["remainder_saturations"] = r.stats["remainder_saturations"].get<double>();
 }
 
+// Arg: max-flow of the level cuts (0 = hybrid default, 1 = BK alone).
 void BM_Exact(benchmark::State& state) {
-  const auto solver = al::MakeSolver("exact");
+  const auto solver = al::MakeSolver("exact", {{"max_flow", MaxFlowArg(state.range(0))}});
   al::SolverResult r;
   for (auto _ : state) r = solver->Solve(Problem());
   state.counters["objective"] = r.objective;
@@ -127,10 +135,11 @@ void BM_MaxFlowBalancedCut(benchmark::State& state) {
   state.counters["build_s"] = r.build_seconds;
 }
 
-BENCHMARK(BM_Cp)->ArgNames({"threads", "sat"})->Args({1, 1})->Args({2, 1})->Args({1, 0})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5)
+BENCHMARK(BM_Cp)->ArgNames({"threads", "sat", "maxflow"})->Args({1, 1, 0})->Args({2, 1, 0})
+    ->Args({2, 1, 1})->Args({1, 0, 0})->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5)
     ->ReportAggregatesOnly(true)->UseRealTime();
-BENCHMARK(BM_Exact)->Unit(benchmark::kMillisecond)->Iterations(1)->Repetitions(5)
-    ->ReportAggregatesOnly(true)->UseRealTime();
+BENCHMARK(BM_Exact)->ArgName("maxflow")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)->Iterations(1)
+    ->Repetitions(5)->ReportAggregatesOnly(true)->UseRealTime();
 BENCHMARK(BM_MaxFlowBalancedCut)->ArgName("boost")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond)
     ->Iterations(1)->Repetitions(5)->ReportAggregatesOnly(true)->UseRealTime();
 

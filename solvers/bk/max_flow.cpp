@@ -227,6 +227,24 @@ void MaxFlow::Adopt() {
   orphan_head_ = 0;
 }
 
+const char* MaxFlow::AlgorithmName(Algorithm algorithm) {
+  switch (algorithm) {
+    case Algorithm::kHybrid: return "hybrid";
+    case Algorithm::kPseudoflowThenBk: return "pseudoflow";
+    case Algorithm::kBoykovKolmogorov: return "bk";
+  }
+  return "?";
+}
+
+bool MaxFlow::AlgorithmFromName(const std::string& name, Algorithm* algorithm) {
+  for (Algorithm a : {Algorithm::kHybrid, Algorithm::kPseudoflowThenBk, Algorithm::kBoykovKolmogorov})
+    if (name == AlgorithmName(a)) {
+      *algorithm = a;
+      return true;
+    }
+  return false;
+}
+
 double MaxFlow::Solve() {
   Build();
   GreedyPreflow();

@@ -11,7 +11,10 @@
 //     max_flow.cpp), started from whatever phase 1 left. Any pseudoflow is a valid start once node
 //     excesses are read as terminal residuals, so the result is exact whatever phase 1 did; after a
 //     complete phase 1 this pass finds no augmenting path and only grows the final search trees.
-// Algorithm::kBoykovKolmogorov skips phase 1 (the former behaviour; kept for tests and benchmarks).
+// The default, Algorithm::kHybrid, first runs BK alone with a work budget of two sweeps over the
+// network: cuts where most excess is stranded or paths are short end there (BK is at its best on
+// them); the others continue with phase 1 from BK's flow, then phase 2. kPseudoflowThenBk and
+// kBoykovKolmogorov (the behaviour before pseudoflow was added) are kept for tests and benchmarks.
 // The GPL codes of Kolmogorov / pcp and the academic-licence HPF code are not used.
 //
 // Cut cost of a partition (S = source side, T = sink side):
@@ -28,6 +31,7 @@
 #pragma once
 #include <cstdint>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "al/core/huge_page_allocator.hpp"
@@ -37,10 +41,13 @@ namespace al {
 class MaxFlow {
  public:
   enum class Algorithm {
-    kPseudoflowThenBk,  // default: phase 1 + 2 above
-    kBoykovKolmogorov,  // phase 2 only
-    kHybrid,
+    kHybrid,            // default: BK while it stays cheap, else phase 1, then BK (see Solve())
+    kPseudoflowThenBk,  // phase 1 + 2 above
+    kBoykovKolmogorov,  // phase 2 only (the algorithm before pseudoflow was added)
   };
+  // Option names "hybrid", "pseudoflow", "bk" (solver JSON options "max_flow").
+  static const char* AlgorithmName(Algorithm algorithm);
+  static bool AlgorithmFromName(const std::string& name, Algorithm* algorithm);
   // Work counters of the last Solve() (diagnostics; never influence the result).
   struct Stats {
     std::int64_t augmentations = 0;        // BK augmenting paths

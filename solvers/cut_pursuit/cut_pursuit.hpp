@@ -41,6 +41,9 @@ struct CutPursuitOptions {
   // Saturate the remainder of a split whose value then moved by <= cp_dif_tol (al-refine extension,
   // docs/solvers.md "cp speed"). false = the spec's rule only (saturated = no edge activated).
   bool saturate_split_remainders = true;
+  // Max-flow algorithm of the splits (solvers/bk/max_flow.hpp): "hybrid" (default), "pseudoflow"
+  // or "bk". All return the same cut; "bk" is the pre-pseudoflow baseline of the benchmarks.
+  std::string max_flow = "hybrid";
 };
 
 struct CutPursuitResult {

@@ -78,6 +78,11 @@ ExactOptions ParseExactOptions(const nlohmann::json& options) {
       if (!v.is_string() || (v.get<std::string>() != "plateau" && v.get<std::string>() != "bisection"))
         throw Error("exact solver: 'pivot' must be \"plateau\" or \"bisection\"", ExitCode::kUsage);
       o.pivot = v.get<std::string>();
+    } else if (key == "max_flow") {
+      MaxFlow::Algorithm algorithm;
+      if (!v.is_string() || !MaxFlow::AlgorithmFromName(v.get<std::string>(), &algorithm))
+        throw Error("exact solver: 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"", ExitCode::kUsage);
+      o.max_flow = v.get<std::string>();
     } else {
       throw Error("exact solver: unknown option '" + key + "'", ExitCode::kUsage);
     }
@@ -147,6 +152,10 @@ std::vector<double> SolveExactTwoLabel(const RefineProblem& pb, const ExactOptio
   ExactStats st;
   std::vector<double> bnd, a;
   MaxFlow mf;  // buffers reused by every level cut
+  MaxFlow::Algorithm algorithm = MaxFlow::Algorithm::kHybrid;
+  if (!MaxFlow::AlgorithmFromName(opt.max_flow, &algorithm))
+    throw Error("exact solver: unknown max_flow algorithm '" + opt.max_flow + "'", ExitCode::kUsage);
+  mf.set_algorithm(algorithm);
   while (!stack.empty()) {
     Group g = std::move(stack.back());
     stack.pop_back();

@@ -18,6 +18,7 @@ namespace al {
 struct ExactOptions {
   double epsilon = 1e-10;          // interval width at which a group is final
   std::string pivot = "plateau";   // "plateau" or "bisection"
+  std::string max_flow = "hybrid"; // level cuts: "hybrid", "pseudoflow" or "bk" (solvers/bk/max_flow.hpp)
 };
 
 struct ExactStats {
@@ -26,7 +27,7 @@ struct ExactStats {
   int max_depth = 0;
 };
 
-// Options from JSON (keys epsilon, pivot); unknown keys -> al::Error(kUsage).
+// Options from JSON (keys epsilon, pivot, max_flow); unknown keys -> al::Error(kUsage).
 ExactOptions ParseExactOptions(const nlohmann::json& options);
 
 // p minimising F for the two-label problem (s == 0 linear, s == 1 quadratic, else smoothed KL).
