@@ -252,7 +252,8 @@ double MaxFlow::Solve() {
     case Algorithm::kHybrid:
       // BK alone is best when it is done after about one sweep over the network (little flow, or
       // most excess stranded: 1.0-1.5 sweeps on every such cut measured); cuts that need long-range
-      // transport take it 14-42 sweeps, and pseudoflow 2-10x less time (docs/solvers.md "max-flow").
+      // transport take it 14-42 sweeps, and pseudoflow 1.7-14x less time (docs/solvers.md
+      // "Max-flow").
       if (!BoykovKolmogorov(2 * (static_cast<std::int64_t>(n_) + static_cast<std::int64_t>(arcs_.size())))) {
         Pseudoflow();
         BoykovKolmogorov(-1);

@@ -202,6 +202,7 @@ void MaxFlow::ProcessRoot(std::int32_t root) {
 
 void MaxFlow::Pseudoflow() {
   const std::int32_t n = n_;
+  if (n == 0) return;
   tree_.resize(n);
   bucket_first_.assign(static_cast<std::size_t>(n) + 1, -1);
   bucket_last_.assign(static_cast<std::size_t>(n) + 1, -1);
@@ -217,7 +218,8 @@ void MaxFlow::Pseudoflow() {
   highest_ = 1;
   // A safety valve, not a tuning knob: the algorithm terminates on its own, but should rounding ever
   // keep it busy, BK takes over from the (always valid) pseudoflow and the cut stays exact.
-  const std::int64_t budget = 100 * (static_cast<std::int64_t>(n) + static_cast<std::int64_t>(arcs_.size())) + 1000000;
+  const std::int64_t budget =
+      100 * (static_cast<std::int64_t>(n) + static_cast<std::int64_t>(arcs_.size())) + 1000000;
   for (std::int32_t root; (root = HighestStrongRoot()) >= 0;) {
     ProcessRoot(root);
     if (stats_.mergers + stats_.relabels > budget) {

@@ -101,7 +101,7 @@ TEST_P(MaxFlowAlgorithm, MatchesBruteForceAndReturnsSmallestSourceSet) {
   }
 }
 
-// Degenerate networks: no edges, zero capacities, isolated nodes, parallel edges, one-sided
+// Degenerate networks: no nodes, no edges, zero capacities, isolated nodes, parallel edges, one-sided
 // terminals, capacities spread over 16 orders of magnitude, hard constraints (terminal capacities of
 // 2 * sum + 1, MinCutLabels' stand-in for infinity: pseudoflow gathers such excess at tree roots).
 // Every algorithm must return a cut whose cost is the brute-force minimum and the same source side
@@ -114,7 +114,7 @@ TEST_P(MaxFlowAlgorithm, DegenerateNetworks) {
   reference.set_algorithm(Algorithm::kBoykovKolmogorov);
   for (int trial = 0; trial < 200; ++trial) {
     Net n;
-    n.V = 1 + trial % 12;
+    n.V = trial % 12;  // 0 included: an empty network
     const int kind = trial % 6;
     auto cap = [&]() {
       if (kind == 4) return std::pow(10.0, -8.0 + 16.0 * uni(rng));  // 1e-8 .. 1e8

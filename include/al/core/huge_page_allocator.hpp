@@ -27,7 +27,8 @@ struct HugePageAllocator {
 
   T* allocate(std::size_t n) {
     // Also after rounding up to whole huge pages the size must be a valid object size.
-    constexpr std::size_t kMaxBytes = static_cast<std::size_t>(std::numeric_limits<std::ptrdiff_t>::max()) - kHugePage;
+    constexpr std::size_t kMaxBytes =
+        static_cast<std::size_t>(std::numeric_limits<std::ptrdiff_t>::max()) - kHugePage;
     if (n > kMaxBytes / sizeof(T)) throw std::bad_array_new_length();
     const std::size_t bytes = n * sizeof(T);
     if (bytes < kHugePage) return static_cast<T*>(::operator new(bytes));
