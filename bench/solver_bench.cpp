@@ -2,7 +2,7 @@
 // w_e = 0.1). Reports medians over 5 repetitions and the relative objective gap of cp to exact
 // (target: gap <= 1e-3 in < 1 s on 2 cores). The exact optimum is computed once and cached.
 // Baselines in the same run (docs/solvers.md "cp speed"): BM_Cp/.../sat:0 is cp without the
-// split-remainder saturation; .../maxflow:bk (and BM_Exact/maxflow:bk) run every cut with
+// split-remainder saturation; .../maxflow:1 (and BM_Exact/maxflow:1) run every cut with
 // Boykov-Kolmogorov alone, the max-flow before the hybrid with pseudoflow.
 // BM_MaxFlowBalancedCut compares the shared max-flow (solvers/bk/max_flow.hpp, own
 // Boykov-Kolmogorov) with Boost's boykov_kolmogorov_max_flow on the hardest kind of cut both solvers

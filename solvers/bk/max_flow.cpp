@@ -236,13 +236,10 @@ const char* MaxFlow::AlgorithmName(Algorithm algorithm) {
   return "?";
 }
 
-bool MaxFlow::AlgorithmFromName(const std::string& name, Algorithm* algorithm) {
+std::optional<MaxFlow::Algorithm> MaxFlow::AlgorithmFromName(const std::string& name) {
   for (Algorithm a : {Algorithm::kHybrid, Algorithm::kPseudoflowThenBk, Algorithm::kBoykovKolmogorov})
-    if (name == AlgorithmName(a)) {
-      *algorithm = a;
-      return true;
-    }
-  return false;
+    if (name == AlgorithmName(a)) return a;
+  return std::nullopt;
 }
 
 double MaxFlow::Solve() {

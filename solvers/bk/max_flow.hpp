@@ -6,7 +6,7 @@
 //  1. pseudoflow (pseudoflow.cpp): Hochbaum's highest-label pseudoflow algorithm (Operations
 //     Research 56(4), 2008), written for this project from the paper. It moves the bulk of the flow
 //     by merging trees of excess into trees of deficit, which is what the balanced, long-range cuts
-//     of cut pursuit need (docs/solvers.md "max-flow": 1.6-3x faster than BK alone there);
+//     of cut pursuit need (docs/solvers.md "Max-flow": 1.7-14x faster than BK alone there);
 //  2. Boykov-Kolmogorov augmenting paths with search-tree reuse (Boykov & Kolmogorov, PAMI 2004;
 //     max_flow.cpp), started from whatever phase 1 left. Any pseudoflow is a valid start once node
 //     excesses are read as terminal residuals, so the result is exact whatever phase 1 did; after a
@@ -30,6 +30,7 @@
 // baseline of bench/bk_bench.cpp (docs/solvers.md has the measured reason for not using it).
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -45,9 +46,9 @@ class MaxFlow {
     kPseudoflowThenBk,  // phase 1 + 2 above
     kBoykovKolmogorov,  // phase 2 only (the algorithm before pseudoflow was added)
   };
-  // Option names "hybrid", "pseudoflow", "bk" (solver JSON options "max_flow").
+  // Option names "hybrid", "pseudoflow", "bk" (solver JSON options "max_flow"); nullopt if unknown.
   static const char* AlgorithmName(Algorithm algorithm);
-  static bool AlgorithmFromName(const std::string& name, Algorithm* algorithm);
+  static std::optional<Algorithm> AlgorithmFromName(const std::string& name);
   // Work counters of the last Solve() (diagnostics; never influence the result).
   struct Stats {
     std::int64_t augmentations = 0;        // BK augmenting paths
@@ -126,7 +127,7 @@ class MaxFlow {
   void SetLabels(std::int32_t root, std::int32_t only_label, std::int32_t to);
   void ProcessRoot(std::int32_t root);
   std::int32_t FindMerger(std::int32_t v, std::int32_t label);
-  bool RelabelIfDone(std::int32_t v, std::int32_t label);
+  void RelabelIfDone(std::int32_t v, std::int32_t label);
   void MergeAndPush(std::int32_t strong_node, std::int32_t arc, std::int32_t root);
   void Activate(std::int32_t v);
   std::int32_t NextActive();

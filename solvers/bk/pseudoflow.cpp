@@ -17,7 +17,8 @@
 // never in the searched tree and merging cannot create a cycle; (3) deficit roots keep label 0, so a
 // gap above 0 proves that no deficit is reachable. Each node keeps a current arc (next_arc): arcs
 // before it are known to lead nowhere at the node's current label and are not scanned again until
-// the node is relabelled, or until a split hands an arc back to it.
+// the node is relabelled (an arc a split hands back cannot be a merger before that: see
+// MergeAndPush).
 //
 // Nothing here needs to be exact: the Boykov-Kolmogorov phase that follows starts from the resulting
 // pseudoflow (valid at every step: capacities are never exceeded) and augments whatever is left, and
@@ -118,16 +119,15 @@ std::int32_t MaxFlow::FindMerger(std::int32_t v, std::int32_t label) {
 
 // Advances v's search position past children that already left `label`; when none is left, v's
 // subtree holds no merger at this label and v moves to label + 1.
-bool MaxFlow::RelabelIfDone(std::int32_t v, std::int32_t label) {
+void MaxFlow::RelabelIfDone(std::int32_t v, std::int32_t label) {
   TreeNode& x = tree_[v];
   for (; x.next_scan >= 0; x.next_scan = tree_[x.next_scan].next_sibling)
-    if (tree_[x.next_scan].label == label) return false;
+    if (tree_[x.next_scan].label == label) return;
   --label_count_[label];
   ++x.label;
   ++label_count_[x.label];
   x.next_arc = nodes_[v].first;
   ++stats_.relabels;
-  return true;
 }
 
 void MaxFlow::MergeAndPush(std::int32_t strong_node, std::int32_t arc, std::int32_t root) {

@@ -396,10 +396,7 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
   std::vector<std::int32_t> clist, local(V);
   std::vector<char> label(V);
   std::vector<MaxFlow> networks(threads);  // one reusable flow network per thread
-  MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
-  if (!MaxFlow::AlgorithmFromName(opt.max_flow, &max_flow))
-    throw Error("cut pursuit: unknown max_flow algorithm '" + opt.max_flow + "'", ExitCode::kUsage);
-  for (MaxFlow& network : networks) network.set_algorithm(max_flow);
+  for (MaxFlow& network : networks) network.set_algorithm(opt.max_flow);
   while (it < opt.cp_it_max && dif > opt.cp_dif_tol) {
     // --- split (parallel over independent components)
     Timer phase;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "solvers/bk/max_flow.hpp"
+
 namespace al::cp {
 
 // Graph in forward-star form, every undirected edge stored once.
@@ -41,9 +43,9 @@ struct CutPursuitOptions {
   // Saturate the remainder of a split whose value then moved by <= cp_dif_tol (al-refine extension,
   // docs/solvers.md "cp speed"). false = the spec's rule only (saturated = no edge activated).
   bool saturate_split_remainders = true;
-  // Max-flow algorithm of the splits (solvers/bk/max_flow.hpp): "hybrid" (default), "pseudoflow"
-  // or "bk". All return the same cut; "bk" is the pre-pseudoflow baseline of the benchmarks.
-  std::string max_flow = "hybrid";
+  // Max-flow algorithm of the splits (JSON "hybrid", "pseudoflow" or "bk"). All return the same cut;
+  // BK alone is the pre-pseudoflow baseline of the benchmarks.
+  MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
 };
 
 struct CutPursuitResult {

@@ -52,7 +52,7 @@ class CutPursuitSolver final : public Solver {
     out.stats["remainder_saturations"] = r.remainder_saturations;
     out.stats["non_monotone_steps"] = r.warnings.size();
     out.stats["emulate_upstream_projection_bug"] = options_.emulate_upstream_projection_bug;
-    out.stats["max_flow"] = options_.max_flow;
+    out.stats["max_flow"] = MaxFlow::AlgorithmName(options_.max_flow);
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
   }
@@ -85,10 +85,11 @@ cp::CutPursuitOptions ParseCutPursuitOptions(const nlohmann::json& options) {
       if (!v.is_boolean()) throw Error("cp solver: option '" + key + "' must be a boolean", ExitCode::kUsage);
       (key == "saturate_split_remainders" ? o.saturate_split_remainders : o.emulate_upstream_projection_bug) = v.get<bool>();
     } else if (key == "max_flow") {
-      MaxFlow::Algorithm algorithm;
-      if (!v.is_string() || !MaxFlow::AlgorithmFromName(v.get<std::string>(), &algorithm))
-        throw Error("cp solver: option 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"", ExitCode::kUsage);
-      o.max_flow = v.get<std::string>();
+      const auto algorithm = v.is_string() ? MaxFlow::AlgorithmFromName(v.get<std::string>()) : std::nullopt;
+      if (!algorithm)
+        throw Error("cp solver: option 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"",
+                    ExitCode::kUsage);
+      o.max_flow = *algorithm;
     } else {
       throw Error("cp solver: unknown option '" + key + "'", ExitCode::kUsage);
     }

@@ -7,7 +7,6 @@
 
 #include "al/core/error.hpp"
 #include "solvers/cut_pursuit/loss.hpp"
-#include "solvers/bk/max_flow.hpp"
 
 namespace al {
 namespace {
@@ -79,10 +78,11 @@ ExactOptions ParseExactOptions(const nlohmann::json& options) {
         throw Error("exact solver: 'pivot' must be \"plateau\" or \"bisection\"", ExitCode::kUsage);
       o.pivot = v.get<std::string>();
     } else if (key == "max_flow") {
-      MaxFlow::Algorithm algorithm;
-      if (!v.is_string() || !MaxFlow::AlgorithmFromName(v.get<std::string>(), &algorithm))
-        throw Error("exact solver: 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"", ExitCode::kUsage);
-      o.max_flow = v.get<std::string>();
+      const auto algorithm = v.is_string() ? MaxFlow::AlgorithmFromName(v.get<std::string>()) : std::nullopt;
+      if (!algorithm)
+        throw Error("exact solver: 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"",
+                    ExitCode::kUsage);
+      o.max_flow = *algorithm;
     } else {
       throw Error("exact solver: unknown option '" + key + "'", ExitCode::kUsage);
     }
@@ -152,10 +152,7 @@ std::vector<double> SolveExactTwoLabel(const RefineProblem& pb, const ExactOptio
   ExactStats st;
   std::vector<double> bnd, a;
   MaxFlow mf;  // buffers reused by every level cut
-  MaxFlow::Algorithm algorithm = MaxFlow::Algorithm::kHybrid;
-  if (!MaxFlow::AlgorithmFromName(opt.max_flow, &algorithm))
-    throw Error("exact solver: unknown max_flow algorithm '" + opt.max_flow + "'", ExitCode::kUsage);
-  mf.set_algorithm(algorithm);
+  mf.set_algorithm(opt.max_flow);
   while (!stack.empty()) {
     Group g = std::move(stack.back());
     stack.pop_back();

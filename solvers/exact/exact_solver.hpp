@@ -12,13 +12,15 @@
 #include <nlohmann/json.hpp>
 
 #include "al/solver.hpp"
+#include "solvers/bk/max_flow.hpp"
 
 namespace al {
 
 struct ExactOptions {
   double epsilon = 1e-10;          // interval width at which a group is final
   std::string pivot = "plateau";   // "plateau" or "bisection"
-  std::string max_flow = "hybrid"; // level cuts: "hybrid", "pseudoflow" or "bk" (solvers/bk/max_flow.hpp)
+  // Max-flow of the level cuts (JSON "hybrid", "pseudoflow" or "bk"; all give the same cuts).
+  MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
 };
 
 struct ExactStats {

@@ -16,6 +16,9 @@ namespace al {
 namespace {
 
 const char* const kAlgorithms[] = {"hybrid", "pseudoflow", "bk"};
+const MaxFlow::Algorithm kAlgorithmValues[] = {MaxFlow::Algorithm::kHybrid,
+                                               MaxFlow::Algorithm::kPseudoflowThenBk,
+                                               MaxFlow::Algorithm::kBoykovKolmogorov};
 
 TEST(MaxFlowOption, CutPursuitTakesTheSameSplitsWithEveryAlgorithm) {
   for (bool one_hot : {false, true}) {
@@ -24,7 +27,7 @@ TEST(MaxFlowOption, CutPursuitTakesTheSameSplitsWithEveryAlgorithm) {
     cp::CutPursuitResult results[3];
     for (int a = 0; a < 3; ++a) {
       cp::CutPursuitOptions o;
-      o.max_flow = kAlgorithms[a];
+      o.max_flow = kAlgorithmValues[a];
       results[a] = cp::RunCutPursuit(sp, o);
     }
     for (int a = 1; a < 3; ++a) {
