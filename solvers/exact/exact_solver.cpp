@@ -64,29 +64,20 @@ class ExactSolver final : public Solver {
 
 }  // namespace
 
+const OptionTable<ExactOptions>& ExactOptions::Table() {
+  static const auto table =
+      OptionTable<ExactOptions>("exact solver")
+          .Real("epsilon", &ExactOptions::epsilon, NumericRange::Open(0, 1), "interval width at which a group is final")
+          .Choice("pivot", &ExactOptions::pivot,
+                  std::vector<std::pair<std::string, std::string>>{{"plateau", "plateau"}, {"bisection", "bisection"}},
+                  "how an interval is split: at a plateau of the level cut, or halved")
+          .Choice("max_flow", &ExactOptions::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the level cuts");
+  return table;
+}
+
 ExactOptions ParseExactOptions(const nlohmann::json& options) {
   ExactOptions o;
-  if (options.is_null()) return o;
-  if (!options.is_object()) throw Error("exact solver: options must be a JSON object", ExitCode::kUsage);
-  for (const auto& [key, v] : options.items()) {
-    if (key == "epsilon") {
-      if (!v.is_number() || !(v.get<double>() > 0.0) || !(v.get<double>() < 1.0))
-        throw Error("exact solver: 'epsilon' must be a number in (0, 1)", ExitCode::kUsage);
-      o.epsilon = v.get<double>();
-    } else if (key == "pivot") {
-      if (!v.is_string() || (v.get<std::string>() != "plateau" && v.get<std::string>() != "bisection"))
-        throw Error("exact solver: 'pivot' must be \"plateau\" or \"bisection\"", ExitCode::kUsage);
-      o.pivot = v.get<std::string>();
-    } else if (key == "max_flow") {
-      const auto algorithm = v.is_string() ? MaxFlow::AlgorithmFromName(v.get<std::string>()) : std::nullopt;
-      if (!algorithm)
-        throw Error("exact solver: 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"",
-                    ExitCode::kUsage);
-      o.max_flow = *algorithm;
-    } else {
-      throw Error("exact solver: unknown option '" + key + "'", ExitCode::kUsage);
-    }
-  }
+  ExactOptions::Table().Apply(o, options);
   return o;
 }
 

@@ -236,10 +236,11 @@ const char* MaxFlow::AlgorithmName(Algorithm algorithm) {
   return "?";
 }
 
-std::optional<MaxFlow::Algorithm> MaxFlow::AlgorithmFromName(const std::string& name) {
+std::vector<std::pair<std::string, MaxFlow::Algorithm>> MaxFlow::AlgorithmNames() {
+  std::vector<std::pair<std::string, Algorithm>> names;
   for (Algorithm a : {Algorithm::kHybrid, Algorithm::kPseudoflowThenBk, Algorithm::kBoykovKolmogorov})
-    if (name == AlgorithmName(a)) return a;
-  return std::nullopt;
+    names.emplace_back(AlgorithmName(a), a);
+  return names;
 }
 
 double MaxFlow::Solve() {

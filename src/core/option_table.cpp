@@ -42,6 +42,22 @@ std::string FormatOptionNumber(double value) {
   return ec == std::errc() ? std::string(buffer, end) : std::to_string(value);
 }
 
+std::string NumericRange::Text() const {
+  const bool low = std::isfinite(lo), high = std::isfinite(hi);
+  std::string text;
+  if (!low && !high) {
+    text = "finite numbers";
+  } else if (!high) {
+    text.append(lo_open ? "> " : ">= ").append(FormatOptionNumber(lo));
+  } else if (!low) {
+    text.append(hi_open ? "< " : "<= ").append(FormatOptionNumber(hi));
+  } else {
+    text.append(lo_open ? "(" : "[").append(FormatOptionNumber(lo)).append(", ");
+    text.append(FormatOptionNumber(hi)).append(hi_open ? ")" : "]");
+  }
+  return text;
+}
+
 nlohmann::json ParseOptionText(OptionType type, const std::string& text, const std::string& what) {
   double number = 0.0;
   bool flag = false;

@@ -22,9 +22,9 @@ struct Example {
 
   static const al::OptionTable<Example>& Table() {
     static const auto table = al::OptionTable<Example>("example")
-                                  .Int("k", &Example::k, 1, 1000, "neighbours per node")
-                                  .Int("count", &Example::count, 0, std::numeric_limits<double>::infinity(), "items")
-                                  .Real("delta", &Example::delta, 0.0, 2.0, "gate")
+                                  .Int("k", &Example::k, al::NumericRange::Closed(1, 1000), "neighbours per node")
+                                  .Int("count", &Example::count, al::NumericRange::AtLeast(0), "items")
+                                  .Real("delta", &Example::delta, al::NumericRange::LeftOpen(0.0, 2.0), "gate")
                                   .Flag("spatial", &Example::spatial, "spatial factor")
                                   .Text("label", &Example::label, "a name")
                                   .Choice("mode", &Example::mode, {{"a", Mode::kA}, {"b", Mode::kB}}, "mode");
@@ -52,18 +52,25 @@ TEST(OptionTable, DefaultsPassAndSerialise) {
   EXPECT_EQ(Example::Table().fields()[0].name, "k");
   EXPECT_EQ(Example::Table().fields()[0].range, "[1, 1000]");
   EXPECT_EQ(Example::Table().fields()[1].range, ">= 0");
+  EXPECT_EQ(al::NumericRange::Above(0).Text(), "> 0");
+  EXPECT_EQ(al::NumericRange::Open(0, 2).Text(), "(0, 2)");
+  EXPECT_EQ(al::NumericRange::Any().Text(), "finite numbers");
 }
 
 TEST(OptionTable, CheckNamesTheFieldItsRangeAndTheValue) {
   Example e;
   e.k = 0;
   EXPECT_EQ(UsageMessage([&] { Example::Table().Check(e); }),
-            "example option 'k' = 0 is outside [1, 1000] (neighbours per node)");
+            "example option 'k' = 0 must be in [1, 1000] (neighbours per node)");
   e = Example{};
   e.delta = std::numeric_limits<double>::quiet_NaN();
   EXPECT_NE(UsageMessage([&] { Example::Table().Check(e); }).find("'delta'"), std::string::npos);
   e.delta = 2.5;
-  EXPECT_NE(UsageMessage([&] { Example::Table().Check(e); }).find("[0, 2]"), std::string::npos);
+  EXPECT_NE(UsageMessage([&] { Example::Table().Check(e); }).find("(0, 2]"), std::string::npos);
+  e.delta = 0.0;  // the open end
+  EXPECT_NE(UsageMessage([&] { Example::Table().Check(e); }).find("'delta' = 0 must be in (0, 2]"), std::string::npos);
+  e.delta = 2.0;
+  EXPECT_NO_THROW(Example::Table().Check(e));
 }
 
 TEST(OptionTable, SetTextParsesEachType) {
@@ -101,7 +108,7 @@ TEST(OptionTable, ApplyTakesAJsonObjectThenChecks) {
   Example::Table().Apply(e, {{"k", 4}, {"delta", 1.0}, {"mode", "b"}});
   EXPECT_EQ(e.k, 4);
   EXPECT_EQ(e.mode, Mode::kB);
-  EXPECT_NE(UsageMessage([&] { Example::Table().Apply(e, {{"delta", 0.5}, {"k", -1}}); }).find("outside [1, 1000]"),
+  EXPECT_NE(UsageMessage([&] { Example::Table().Apply(e, {{"delta", 0.5}, {"k", -1}}); }).find("must be in [1, 1000]"),
             std::string::npos);
   EXPECT_EQ(e.k, 4);  // an invalid object changes nothing
   EXPECT_DOUBLE_EQ(e.delta, 1.0);

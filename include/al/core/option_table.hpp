@@ -52,6 +52,25 @@ std::string FormatOptionNumber(double value);                          // shorte
 nlohmann::json ParseOptionText(OptionType type, const std::string& text, const std::string& what);
 nlohmann::json ConvertOptionJson(OptionType type, const nlohmann::json& value, const std::string& what);
 
+// An interval of finite numbers, closed unless said otherwise: Closed(1, 1000), AtLeast(0),
+// Above(0) (0 excluded), LeftOpen(0, 1) = (0, 1].
+struct NumericRange {
+  double lo = -std::numeric_limits<double>::infinity(), hi = std::numeric_limits<double>::infinity();
+  bool lo_open = false, hi_open = false;
+
+  static NumericRange Closed(double lo, double hi) { return {lo, hi, false, false}; }
+  static NumericRange LeftOpen(double lo, double hi) { return {lo, hi, true, false}; }
+  static NumericRange Open(double lo, double hi) { return {lo, hi, true, true}; }
+  static NumericRange AtLeast(double lo) { return {lo, std::numeric_limits<double>::infinity(), false, true}; }
+  static NumericRange Above(double lo) { return {lo, std::numeric_limits<double>::infinity(), true, true}; }
+  static NumericRange Any() { return {}; }
+
+  bool Contains(double v) const {
+    return std::isfinite(v) && (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  }
+  std::string Text() const;  // "[1, 1000]", "(0, 1]", ">= 0", "> 0", "finite numbers"
+};
+
 template <class O>
 class OptionTable {
  public:
@@ -61,18 +80,18 @@ class OptionTable {
   const std::vector<OptionField<O>>& fields() const { return fields_; }
 
   template <class I>
-  OptionTable&& Int(const std::string& name, I O::*member, double lo, double hi, const std::string& help) && {
-    OptionField<O> f = Numeric(name, OptionType::kInt, lo, hi, help);
+  OptionTable&& Int(const std::string& name, I O::*member, NumericRange range, const std::string& help) && {
+    OptionField<O> f{name, OptionType::kInt, range.Text(), help, false, {}, {}, {}};
     f.get = [member](const O& o) { return nlohmann::json(o.*member); };
     f.set = [member](O& o, const nlohmann::json& v) { o.*member = static_cast<I>(v.get<double>()); };
-    f.in_range = [member, lo, hi](const O& o) { return o.*member >= lo && o.*member <= hi; };
+    f.in_range = [member, range](const O& o) { return range.Contains(static_cast<double>(o.*member)); };
     return Add(std::move(f));
   }
-  OptionTable&& Real(const std::string& name, double O::*member, double lo, double hi, const std::string& help) && {
-    OptionField<O> f = Numeric(name, OptionType::kReal, lo, hi, help);
+  OptionTable&& Real(const std::string& name, double O::*member, NumericRange range, const std::string& help) && {
+    OptionField<O> f{name, OptionType::kReal, range.Text(), help, false, {}, {}, {}};
     f.get = [member](const O& o) { return nlohmann::json(o.*member); };
     f.set = [member](O& o, const nlohmann::json& v) { o.*member = v.get<double>(); };
-    f.in_range = [member, lo, hi](const O& o) { return std::isfinite(o.*member) && o.*member >= lo && o.*member <= hi; };
+    f.in_range = [member, range](const O& o) { return range.Contains(o.*member); };
     return Add(std::move(f));
   }
   // A boolean spelled on|off (--spatial off); Switch: a flag without value (--restore).
@@ -125,8 +144,9 @@ class OptionTable {
   void Check(const O& options) const {
     for (const auto& f : fields_)
       if (!f.in_range(options))
-        throw Error(scope_ + " option '" + f.name + "' = " + Spell(f.get(options)) + " is outside " + f.range +
-                        " (" + f.help + ")", ExitCode::kUsage);
+        throw Error(scope_ + " option '" + f.name + "' = " + Spell(f.get(options)) + " must be " +
+                        (f.range.starts_with('[') || f.range.starts_with('(') ? "in " : "") + f.range + " (" +
+                        f.help + ")", ExitCode::kUsage);
   }
   // {name: value} of every field.
   nlohmann::json ToJson(const O& options) const {
@@ -170,14 +190,6 @@ class OptionTable {
  private:
   static std::string Spell(const nlohmann::json& v) {
     return v.is_number() ? FormatOptionNumber(v.get<double>()) : v.dump();
-  }
-  OptionField<O> Numeric(const std::string& name, OptionType type, double lo, double hi, const std::string& help) {
-    const double inf = std::numeric_limits<double>::infinity();
-    std::string range = lo == -inf && hi == inf ? "finite numbers"
-                        : hi == inf             ? ">= " + FormatOptionNumber(lo)
-                        : lo == -inf            ? "<= " + FormatOptionNumber(hi)
-                                                : "[" + FormatOptionNumber(lo) + ", " + FormatOptionNumber(hi) + "]";
-    return OptionField<O>{name, type, range, help, false, {}, {}, {}};
   }
   OptionTable&& Add(OptionField<O> field) {
     if (Has(field.name)) throw Error(scope_ + ": option '" + field.name + "' declared twice", ExitCode::kInternal);
