@@ -114,7 +114,7 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
           c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
                                            inputs.ground_truth->opacity_logits).f1;
         if (o.eval) {
-          c.eval = EvaluatePoint(inputs.scene, *o.eval, s.refined);
+          c.eval = EvaluatePoint(*inputs.scene, *o.eval, s.refined);
           c.score = c.eval["acc_delta_depth_float"].get<double>() - c.eval["collateral_depth"].get<double>();
         }
         r.candidates.push_back(std::move(c));

@@ -214,7 +214,7 @@ SweepResult RunSweep(const SweepOptions& o) {
       record["gt"] = ScoreAgainstGroundTruth(*inputs->ground_truth, inputs->removal.removed, solved.refined);
     const double score_seconds = score_timer.Seconds();
     Timer eval_timer;
-    if (eval_setup) record["eval"] = EvaluatePoint(inputs->scene, *eval_setup, solved.refined);
+    if (eval_setup) record["eval"] = EvaluatePoint(*inputs->scene, *eval_setup, solved.refined);
     // graph: the build time of the graph this point used (also when reused), so graph + solve is
     // what the setting costs on its own; point: wall time this run spent on the point.
     record["seconds"] = {{"graph", graph_seconds},
