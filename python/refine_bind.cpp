@@ -41,7 +41,7 @@ std::string KnownKeywords() {
   return TableNamesIfAny<RefineOptions>("refine") + known;
 }
 
-RefineOptions OptionsFrom(const std::string& method, int k, double delta, const std::string& solver,
+RefineOptions OptionsFrom(const std::string& method, const py::object& k, const py::object& delta, const std::string& solver,
                           const py::object& removed_is, const py::object& solver_options, py::dict kwargs) {
   RefineOptions o;
   o.method = method;
@@ -75,7 +75,9 @@ PyRefineResult ToPython(const RefineResult& r) {
   return p;
 }
 
-PyRefineResult Refine(const PyScene& scene, const py::array& removed, const std::string& method, int k, double delta,
+// k and delta are plain objects: the graph table converts and checks them, with the CLI's messages.
+PyRefineResult Refine(const PyScene& scene, const py::array& removed, const std::string& method, const py::object& k,
+                      const py::object& delta,
                       const std::string& solver, const py::object& features, const py::object& labels,
                       const py::object& object_id, const py::object& removed_is, const py::object& out,
                       const py::object& solver_options, const py::kwargs& kwargs) {

@@ -2,6 +2,8 @@
 // values as 3DGS stores them: opacity logits, log scales, unnormalised quaternions w x y z).
 #include <cmath>
 
+#include <pybind11/stl.h>
+
 #include "al/core/error.hpp"
 #include "al/io/ply.hpp"
 #include "python/common.hpp"

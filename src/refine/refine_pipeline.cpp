@@ -143,7 +143,8 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
 
 nlohmann::json RefineResult::Summary() const {
   nlohmann::json s = {{"status", status}, {"message", message}};
-  for (const auto& [key, value] : report.value("counts", nlohmann::json::object()).items()) s[key] = value;
+  const nlohmann::json counts = report.value("counts", nlohmann::json::object());
+  for (const auto& [key, value] : counts.items()) s[key] = value;
   if (report.contains("gt"))
     for (const char* when : {"before", "after"})
       for (const char* metric : {"f1", "iou", "precision", "recall"})
