@@ -181,7 +181,7 @@ std::string ViewCard(const json& entry, const json* record, const json& columns,
     for (const auto& f : *flags) s += "<span class=\"flag\" title=\"acc_Δdepth of this view cannot be trusted\">⚑ " + HtmlEscape(f) + "</span>";
   s += "</h3>\n<div class=\"strip\">";
   for (const json& im : images)
-    s += "<figure><img loading=\"lazy\" alt=\"" + HtmlEscape(im.value("label", std::string())) + "\" src=\"" +
+    s += "<figure><img alt=\"" + HtmlEscape(im.value("label", std::string())) + "\" src=\"" +
          HtmlEscape(UrlPath(im.value("src", std::string()))) + "\"><figcaption>" +
          HtmlEscape(im.value("label", std::string())) + "</figcaption></figure>";
   const std::string last = columns.empty() ? "before" : columns.back().value("name", std::string());

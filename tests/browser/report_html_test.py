@@ -50,8 +50,8 @@ def self_test(chromium, work):
     print("self-test: a broken image and a console error are caught")
 
 
-def check(chromium, page, min_images, screenshot=None, script=None):
-    r = cdp.check_page(chromium, page, screenshot=screenshot, script=script)
+def check(chromium, page, min_images, screenshot=None, script=None, height=900):
+    r = cdp.check_page(chromium, page, screenshot=screenshot, script=script, height=height)
     if r["broken"]:
         fail(f"{page}: {len(r['broken'])} broken image(s), e.g. {r['broken'][:3]}")
     if r["errors"]:
@@ -70,7 +70,7 @@ def demo_report(cli, chromium, work, screenshot):
     if first != f"report: {os.path.abspath(page)}":
         fail(f"the demo's first line should name report.html, got: {first!r}")
     # before + 3 renders + 3 residual overlays + 2 added overlays + 3 depth changes, twice (strip + wipe).
-    r = check(chromium, page, min_images=6, screenshot=screenshot, script=WIPE_JS)
+    r = check(chromium, page, min_images=6, screenshot=screenshot, script=WIPE_JS, height=1500)
     if r["script"] != "inset(0px 80% 0px 0px)":
         fail(f"the wipe slider did not move the picture: clip-path {r['script']!r}")
     print("demo report.html: wipe slider works")
