@@ -14,8 +14,8 @@
 
 #include "al/core/error.hpp"
 #include "al/core/timer.hpp"
-#include "solvers/bk/max_flow.hpp"
-#include "solvers/cut_pursuit/loss.hpp"
+#include "solvers/max_flow/max_flow.hpp"
+#include "al/graph/loss.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
 
 namespace al::cp {

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al::cp {
 

@@ -5,7 +5,7 @@
 #include <string>
 
 #include "al/core/error.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 namespace {

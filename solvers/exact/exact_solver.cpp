@@ -6,7 +6,7 @@
 #include <cstdint>
 
 #include "al/core/error.hpp"
-#include "solvers/cut_pursuit/loss.hpp"
+#include "al/graph/loss.hpp"
 
 namespace al {
 namespace {
@@ -91,7 +91,7 @@ ExactOptions ParseExactOptions(const nlohmann::json& options) {
 }
 
 double TwoLabelObjective(const RefineProblem& pb, const std::vector<double>& p) {
-  const cp::Loss loss{pb.kl_smoothing, 2};
+  const Loss loss{pb.kl_smoothing, 2};
   double data = 0.0, tv = 0.0;
   const std::size_t V = pb.num_nodes();
   for (std::size_t v = 0; v < V; ++v) {
@@ -107,7 +107,7 @@ double TwoLabelObjective(const RefineProblem& pb, const std::vector<double>& p) 
 std::vector<double> SolveExactTwoLabel(const RefineProblem& pb, const ExactOptions& opt, ExactStats* stats) {
   ValidateTwoLabel(pb);
   const std::int32_t V = static_cast<std::int32_t>(pb.num_nodes());
-  const cp::Loss loss{pb.kl_smoothing, 2};
+  const Loss loss{pb.kl_smoothing, 2};
   std::vector<double> nw = pb.node_weights.empty() ? std::vector<double>(V, 1.0) : pb.node_weights;
   // phi'_v(p) and phi''_v(p) of the 1-D problem (§11), omega_e = 2 w_e for the unit metric.
   auto dphi = [&](std::int32_t v, double t) {

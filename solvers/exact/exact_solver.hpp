@@ -12,7 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/solver.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 

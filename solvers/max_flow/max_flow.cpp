@@ -8,7 +8,7 @@
 // Conventions: node.parent is the arc v -> parent. In the source tree flow runs parent -> v, so the
 // arc that must stay non-saturated is the parent arc's sister; in the sink tree the parent arc itself.
 // Node terminal residuals (tr) may already hold a pseudoflow's excesses when this phase starts.
-#include "max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 #include <algorithm>
 #include <limits>

@@ -3,7 +3,7 @@
 // map lookups): each undirected edge becomes two arcs that are each other's reverse (both carrying
 // capacity); each node keeps at most one terminal arc: the common part of its two terminal
 // capacities is a constant of the cut and is folded into cut_value.
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 #include <algorithm>
 #include <cmath>
