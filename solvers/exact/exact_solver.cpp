@@ -21,7 +21,7 @@ class ExactSolver final : public Solver {
     SolverResult out;
     out.solver = "exact";
     out.p = SolveExactTwoLabel(problem, options_, &st);
-    out.objective = TwoLabelObjective(problem, out.p);
+    out.objective = Objective(problem, out.p);
     out.iterations = static_cast<int>(st.max_flows);
     out.converged = true;
     out.objective_history = {out.objective};
@@ -55,20 +55,6 @@ ExactOptions ParseExactOptions(const nlohmann::json& options) {
   ExactOptions o;
   ExactOptions::Table().Apply(o, options);
   return o;
-}
-
-double TwoLabelObjective(const RefineProblem& pb, const std::vector<double>& p) {
-  const Loss loss{pb.kl_smoothing, 2};
-  double data = 0.0, tv = 0.0;
-  const std::size_t V = pb.num_nodes();
-  for (std::size_t v = 0; v < V; ++v) {
-    const double w = pb.node_weights.empty() ? 1.0 : pb.node_weights[v];
-    data += w * (loss.Value(pb.y_remove[v], p[v]) + loss.Value(1.0 - pb.y_remove[v], 1.0 - p[v]));
-  }
-  for (std::size_t u = 0; u < V; ++u)
-    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e)
-      tv += pb.edge_weights[e] * 2.0 * std::fabs(p[u] - p[pb.adj_vertices[e]]);
-  return data + tv;
 }
 
 std::unique_ptr<Solver> MakeExactSolver(const nlohmann::json& options) {
