@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """An independent, literal re-implementation of the released Remove360 evaluator's per-image
 formulas as ../shared/spec/METRICS.md describes them (semantic §2, acc_Δdepth 8-bit §4), in numpy,
-written without looking at al-refine's C++ code. Images are read with Pillow's convert("L") as the
+following that text literally and sharing no code with al-refine. Images are read with Pillow's convert("L") as the
 released code does, and the depth difference uses numpy's own uint8 arithmetic, so the wraparound
 of `-depth1` happens here exactly as it does there.
 
