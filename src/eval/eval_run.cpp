@@ -83,6 +83,7 @@ void ScoreDepth(const metrics::DepthRender& before, const metrics::DepthRender& 
   m.threshold8 = ch8.threshold;
   m.constant8 = ch8.constant;
   m.trust8 = metrics::AssessDepthTrust(&object, ch8, o.trust);
+  m.holes_before8 = ch8.holes_before;
   m.holes_after8 = ch8.holes_after;
   changed8 = ch8.changed;
   metrics::FloatDepthOptions fo = o.float_depth;
@@ -92,6 +93,7 @@ void ScoreDepth(const metrics::DepthRender& before, const metrics::DepthRender& 
   m.depth_float = metrics::ScoreDepthChange(&object, chf.changed);
   m.threshold_float = chf.threshold;
   m.trust_float = metrics::AssessDepthTrust(&object, chf, o.trust);
+  m.holes_before_float = chf.holes_before;
   m.holes_after_float = chf.holes_after;
 }
 
@@ -297,8 +299,9 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     for (const ViewRecord& v : r.views) {
       if (!v.evaluated) continue;
       const ColumnViewMetrics& m = v.columns[c];
-      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8, m.trust8, 0, m.holes_after8});
-      df.push_back({v.name, m.depth_float, m.threshold_float, false, m.trust_float, 0, m.holes_after_float});
+      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8, m.trust8, m.holes_before8, m.holes_after8});
+      df.push_back({v.name, m.depth_float, m.threshold_float, false, m.trust_float, m.holes_before_float,
+                    m.holes_after_float});
       if (m.collateral_psnr) psnr.push_back(*m.collateral_psnr);
       s.identical += m.identical;
       if (m.semantic) sem.push_back(*m.semantic);

@@ -66,7 +66,8 @@ struct ColumnViewMetrics {
   double threshold8 = 0, threshold_float = 0;
   bool constant8 = false;
   metrics::DepthTrust trust8, trust_float;  // when acc_Δdepth of this view cannot be trusted
-  std::size_t holes_after8 = 0, holes_after_float = 0;  // pixels with depth before and none after
+  std::size_t holes_before8 = 0, holes_before_float = 0;  // pixels without depth before
+  std::size_t holes_after8 = 0, holes_after_float = 0;    // pixels with depth before and none after
   std::optional<double> collateral_psnr;  // empty when identical outside the object
   bool identical = false;
   std::optional<metrics::SemanticRecord> semantic;
