@@ -7,7 +7,7 @@
 
 #include "al/core/error.hpp"
 #include "al/core/timer.hpp"
-#include "max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 namespace {
