@@ -52,8 +52,8 @@ const Network& Net() {
     n.remove_cost.resize(V);
     n.edge_cap.resize(E);
     for (std::size_t v = 0; v < V; ++v) {
-      n.remove_cost[v] = problem.node_weights[v] * al::SmoothedKl2(problem.y_remove[v], 1.0, sm);
-      n.keep_cost[v] = problem.node_weights[v] * al::SmoothedKl2(problem.y_remove[v], 0.0, sm);
+      n.remove_cost[v] = problem.node_weights[v] * al::DataTerm2(problem.y_remove[v], 1.0, sm);
+      n.keep_cost[v] = problem.node_weights[v] * al::DataTerm2(problem.y_remove[v], 0.0, sm);
     }
     for (std::size_t e = 0; e < E; ++e) n.edge_cap[e] = 2.0 * problem.edge_weights[e];
     return n;

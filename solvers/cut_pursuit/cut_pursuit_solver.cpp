@@ -24,7 +24,8 @@ class CutPursuitSolver final : public Solver {
     const std::size_t V = problem.num_nodes();
     out.p.resize(V);
     for (std::size_t v = 0; v < V; ++v) out.p[v] = r.rX[static_cast<std::size_t>(r.comp_assign[v]) * 2];
-    out.objective = r.objective;
+    out.objective = Objective(problem, out.p);  // the one definition (problem.hpp); r.objective is
+                                                // the same energy summed over D-label components
     out.iterations = r.iterations;
     out.converged = r.converged;
     out.objective_history = r.objective_history;

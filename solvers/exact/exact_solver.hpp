@@ -41,8 +41,6 @@ ExactOptions ParseExactOptions(const nlohmann::json& options);
 std::vector<double> SolveExactTwoLabel(const RefineProblem& problem, const ExactOptions& options,
                                        ExactStats* stats = nullptr);
 
-// F(p) with the loss of CUT_PURSUIT.md §1.1 (equals al::Objective for 0 < s < 1), fixed-order sums.
-double TwoLabelObjective(const RefineProblem& problem, const std::vector<double>& p);
 
 std::unique_ptr<Solver> MakeExactSolver(const nlohmann::json& options);
 

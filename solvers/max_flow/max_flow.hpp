@@ -119,6 +119,8 @@ class MaxFlow {
   double CutValue() const;
   void GreedyPreflow();
   bool BoykovKolmogorov(std::int64_t max_work);
+  void ResetTrees();
+  std::int32_t GrowFrom(std::int32_t i);
   void Pseudoflow();
   void TreeLink(std::int32_t child, std::int32_t parent, std::int32_t arc);
   void TreeUnlink(std::int32_t child);

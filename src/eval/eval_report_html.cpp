@@ -119,7 +119,8 @@ void AddFlag(std::map<std::string, std::vector<std::string>>& out, const std::st
   if (std::find(list.begin(), list.end(), text) == list.end()) list.push_back(text);
 }
 
-// Every "flagged" array below `value` (see FlaggedViews).
+// Every "flagged" array below `value` (see FlaggedViews); `label` names the column and the summary
+// it is in ("fgs, depth").
 void CollectFlagged(const json& value, const std::string& label, std::map<std::string, std::vector<std::string>>& out) {
   if (!value.is_object()) return;
   for (const auto& [key, item] : value.items()) {
@@ -141,7 +142,6 @@ void CollectFlagged(const json& value, const std::string& label, std::map<std::s
     }
   }
 }
-
 
 // The residual of a view: 1 − acc_Δdepth (8-bit) of `column`, NaN when the view has none.
 double Residual(const json& record, const std::string& column) {
@@ -239,7 +239,9 @@ std::string ViewsSection(const json& columns, const json& view_records, const js
 std::map<std::string, std::vector<std::string>> FlaggedViews(const json& report, const json& view_records) {
   std::map<std::string, std::vector<std::string>> out;
   if (report.contains("metrics") && report["metrics"].contains("columns"))
-    for (const json& column : report["metrics"]["columns"]) CollectFlagged(column, Label(column), out);
+    for (const json& column : report["metrics"]["columns"])
+      for (const auto& [key, summary] : column.items()) CollectFlagged(summary, Label(column) + ", " + key, out);
+  if (!out.empty()) return out;  // metrics.csv repeats what report.json says; it counts only alone
   for (const json& record : view_records)
     for (const auto& [key, value] : record.items())
       if (key.find("flag") != std::string::npos && value.is_string() && !value.get<std::string>().empty())

@@ -63,7 +63,11 @@ TEST(EvalReportHtml, FlagsComeFromTheReportAndTheRecords) {
   const auto flagged = FlaggedViews(Report(), Views());
   ASSERT_EQ(flagged.size(), 1u);
   const auto& flags = flagged.at("v1");
-  EXPECT_EQ(flags, (std::vector<std::string>{"fgs: small_object", "bk_trust_flags: dark"}));
+  EXPECT_EQ(flags, (std::vector<std::string>{"fgs, depth: small_object"}));
+  // Without flags in report.json, the per-view records' flag cells count.
+  json bare = Report();
+  bare["metrics"]["columns"][0]["depth"].erase("flagged");
+  EXPECT_EQ(FlaggedViews(bare, Views()).at("v1"), (std::vector<std::string>{"bk_trust_flags: dark"}));
   const std::string html = EvalReportHtml(Report(), Views(), json::array({Images("v0"), Images("v1")}));
   EXPECT_NE(html.find("class=\"view flagged\" id=\"view-v1\""), std::string::npos);
   EXPECT_NE(html.find("class=\"view\" id=\"view-v0\""), std::string::npos);

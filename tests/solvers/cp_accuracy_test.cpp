@@ -15,7 +15,7 @@ namespace {
 
 // Brute-force minimiser of F for two nodes joined by one edge: nested ternary searches (F convex).
 std::pair<double, double> TwoNodeBruteForce(const RefineProblem& pb) {
-  auto F = [&](double a, double b) { return TwoLabelObjective(pb, {a, b}); };
+  auto F = [&](double a, double b) { return Objective(pb, {a, b}); };
   auto inner = [&](double a) {
     double lo = 0.0, hi = 1.0;
     for (int i = 0; i < 100; ++i) {
@@ -56,7 +56,7 @@ TEST(CpAccuracy, TwoNodeClosedForm) {
       EXPECT_NEAR(ex.p[1], b, 1e-6) << "s=" << s << " w=" << w;
       EXPECT_NEAR(cpr.p[0], a, 1e-4) << "s=" << s << " w=" << w;
       EXPECT_NEAR(cpr.p[1], b, 1e-4) << "s=" << s << " w=" << w;
-      const double fb = TwoLabelObjective(pb, {a, b});
+      const double fb = Objective(pb, {a, b});
       EXPECT_LE(ex.objective, fb + 1e-9);
       EXPECT_LE(cpr.objective, fb * (1 + 1e-6) + 1e-9);
     }

@@ -21,8 +21,9 @@ std::string EvalReportHtml(const nlohmann::json& report, const nlohmann::json& v
                            const nlohmann::json& view_images);
 
 // Views an evaluator flag marks: every "flagged" array in report.json's column summaries
-// (entries {"view"|"image": name, "flags": [...]} or a plain name) and every non-empty text cell
-// of a view record whose column name holds "flag". view → "label: flag" texts.
+// (entries {"view"|"image": name, "flags": [...]} or a plain name), labelled "<column label>,
+// <summary>"; when report.json has none, every non-empty text cell of a view record whose column
+// name holds "flag". view → "label: flag" texts.
 std::map<std::string, std::vector<std::string>> FlaggedViews(const nlohmann::json& report,
                                                              const nlohmann::json& view_records);
 
