@@ -25,6 +25,8 @@ constexpr SummaryRow kSummaryRows[] = {
     {"num_removed", "Gaussians removed", 0, 0},
     {"added", "added by the refinement", 0, 0},
     {"depth.mean_acc_delta_depth", "acc_Δdepth ↑ (8-bit, the paper's)", +1, 3},
+    {"depth.trust.mean_acc_delta_depth_trusted", "acc_Δdepth ↑ (8-bit, views without a trust flag)", +1, 3},
+    {"depth.trust.flagged_views", "views whose acc_Δdepth is flagged (8-bit)", 0, 0},
     {"depth_float.mean_acc_delta_depth", "acc_Δdepth ↑ (float)", +1, 3},
     {"depth.mean_iou", "IoU of depth change and object ↑", +1, 3},
     {"semantic.mean_iou_drop", "IoU_drop ↑", +1, 3},
@@ -149,6 +151,19 @@ double Residual(const json& record, const std::string& column) {
   return record.contains(key) && record[key].is_number() ? 1.0 - record[key].get<double>() : NAN;
 }
 
+// One badge per flag name, with the columns / summaries that raised it ("fgs, depth; fgs+bk, depth").
+std::map<std::string, std::string> FlagBadges(const std::vector<std::string>& flags) {
+  std::map<std::string, std::string> badges;
+  for (const std::string& text : flags) {
+    const auto colon = text.rfind(": ");
+    const std::string flag = colon == std::string::npos ? text : text.substr(colon + 2);
+    const std::string source = colon == std::string::npos ? "" : text.substr(0, colon);
+    std::string& sources = badges[flag];
+    sources += (sources.empty() ? "" : "; ") + source;
+  }
+  return badges;
+}
+
 std::string ImageOptions(const json& images, const std::string& selected) {
   std::string s;
   for (const json& im : images) {
@@ -178,7 +193,9 @@ std::string ViewCard(const json& entry, const json* record, const json& columns,
                   HtmlEscape(UrlPath(view)) + "\">\n<h3>" + HtmlEscape(view) + " <span class=\"note\">" + residuals +
                   "</span>";
   if (flags)
-    for (const auto& f : *flags) s += "<span class=\"flag\" title=\"acc_Δdepth of this view cannot be trusted\">⚑ " + HtmlEscape(f) + "</span>";
+    for (const auto& [flag, sources] : FlagBadges(*flags))
+      s += "<span class=\"flag\" title=\"acc_Δdepth of this view cannot be trusted: " + HtmlEscape(sources) +
+           "\">⚑ " + HtmlEscape(flag) + "</span>";
   s += "</h3>\n<div class=\"strip\">";
   for (const json& im : images)
     s += "<figure><img alt=\"" + HtmlEscape(im.value("label", std::string())) + "\" src=\"" +

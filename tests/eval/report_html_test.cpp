@@ -70,6 +70,7 @@ TEST(EvalReportHtml, FlagsComeFromTheReportAndTheRecords) {
   EXPECT_EQ(FlaggedViews(bare, Views()).at("v1"), (std::vector<std::string>{"bk_trust_flags: dark"}));
   const std::string html = EvalReportHtml(Report(), Views(), json::array({Images("v0"), Images("v1")}));
   EXPECT_NE(html.find("class=\"view flagged\" id=\"view-v1\""), std::string::npos);
+  EXPECT_NE(html.find("cannot be trusted: fgs, depth\">⚑ small_object</span>"), std::string::npos);
   EXPECT_NE(html.find("class=\"view\" id=\"view-v0\""), std::string::npos);
 }
 
