@@ -17,7 +17,6 @@ const std::vector<std::pair<std::string, Factory>>& Table() {
       {"bk", &MakeBkSolver},
       {"cp", &MakeCutPursuitSolver},
       {"exact", &MakeExactSolver},
-      // {"bk", &MakeBkSolver}, {"cp", &MakeCutPursuitSolver}, {"exact", &MakeExactSolver}
   };
   return table;
 }

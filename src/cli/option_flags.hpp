@@ -22,6 +22,19 @@ std::string DefaultText(const OptionField<O>& field, const O& defaults) {
   return v.is_string() ? v.get<std::string>() : v.dump();
 }
 
+// What --help shows after the flag: INT, NUMBER, on|off, distance|cosine, or the custom range.
+template <class O>
+std::string TypeName(const OptionField<O>& field) {
+  switch (field.type) {
+    case OptionType::kInt: return "INT";
+    case OptionType::kReal: return "NUMBER";
+    case OptionType::kFlag:
+    case OptionType::kChoice: return field.range;
+    case OptionType::kText: return field.range.empty() ? "TEXT" : field.range;
+  }
+  return "TEXT";
+}
+
 // Adds every field of `table` (except those named in `skip`) to `app`, bound to `options`, whose
 // values at this call are the defaults shown. `options` must outlive parsing.
 template <class O>
@@ -42,8 +55,10 @@ void AddOptionFlags(CLI::App& app, const OptionTable<O>& table, O& options, cons
       app.add_flag_callback(flag, [store] { store(true, false); }, help)->group(group);
       continue;
     }
-    if (!field.range.empty()) help += " [" + field.range + "]";
+    const bool numeric = field.type == OptionType::kInt || field.type == OptionType::kReal;
+    if (numeric && !field.range.empty()) help += "; " + field.range;
     app.add_option_function<std::string>(flag, [store](const std::string& s) { store(s, true); }, help)
+        ->type_name(TypeName(field))
         ->default_str(DefaultText(field, options))
         ->group(group);
   }

@@ -2,6 +2,7 @@
 
 #include "al/core/error.hpp"
 #include "al/solver.hpp"
+#include "src/cli/option_flags.hpp"
 
 namespace al::cli {
 
@@ -24,28 +25,14 @@ void AddInputFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--fgs-threshold", o.fgs_threshold, "FGS deletion threshold")->default_val(0.4);
 }
 
+// Flags, their help and their parsing come from the options tables: the library's Check() reports
+// ranges in the same words for the CLI, sweep grids, Python keywords and solver-options JSON.
 void AddGraphFlags(CLI::App& app, RefineFlags& f) {
-  GraphOptions& g = f.options.graph;
-  app.add_option("--k", g.k, "Neighbours per node")->default_val(10);
-  app.add_option("--delta", g.delta, "Semantic gate (distance of unit features)")->default_val(0.8);
-  app.add_option("--delta-mode", f.delta_mode, "distance | cosine")
-      ->check(CLI::IsMember({"distance", "cosine"}))->default_val("distance");
-  app.add_option("--lambda", g.lambda, "Edge weight scale")->default_val(1.0);
-  app.add_option("--spatial", f.spatial, "Spatial weight factor on|off")
-      ->check(CLI::IsMember({"on", "off"}))->default_val("on");
-  app.add_option("--hops", g.hops, "Candidate growth repetitions")->default_val(1);
-  app.add_option("--radius-scale", g.radius_scale, "Multiplier of r_i = max exp(scale)")->default_val(1.0);
-  app.add_option("--knn-checks", g.knn_checks, "0 = exact kNN; > 0 approximate (FLANN checks)")->default_val(0);
-  app.add_option("--kl-smoothing", g.kl_smoothing, "s of the smoothed KL")->default_val(0.1);
+  AddOptionFlags(app, GraphOptions::Table(), f.options.graph, "Graph");
 }
 
 void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
-  app.add_option("--threshold", f.threshold, "Decision: a number tau or percentile:P")->default_val("0.5");
-  app.add_flag("--restore", f.options.decision.restore, "Also let removed Gaussians with p < tau return");
-  app.add_option("--min-segment-share", f.options.decision.min_segment_share,
-                 "Segment rule: add only to graph components the method removed at least this share "
-                 "of (0 = SPEC 5's plain rule)")
-      ->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  AddOptionFlags(app, DecisionOptions::Table(), f.options.decision, "Decision");
 }
 
 void AddSolverFlags(CLI::App& app, RefineFlags& f) {
@@ -59,9 +46,6 @@ RefineOptions ToRefineOptions(const RefineFlags& f) {
   RefineOptions o = f.options;
   if (!f.removed_is.empty())
     o.removed_is = f.removed_is == "remaining" ? RemovedIs::kRemaining : RemovedIs::kRemoved;
-  o.graph.delta_mode = f.delta_mode == "cosine" ? DeltaMode::kCosine : DeltaMode::kDistance;
-  o.graph.spatial = f.spatial == "on";
-  o.decision.rule = ParseDecisionRule(f.threshold);
   if (f.object_id != RefineFlags::kUnset) o.object_id = f.object_id;
   if (!f.solver_options.empty()) {
     try {

@@ -1,7 +1,7 @@
 // The flags `refine`, `compare` and `sweep` share (inputs, graph, decision), declared once so the
 // subcommands cannot drift apart. A command owns a RefineFlags, calls the Add*Flags it needs in
-// Setup and ToRefineOptions at the start of Run (CLI11 binds strings; the enums, the decision rule
-// and the JSON are converted here, with usage errors).
+
+
 #pragma once
 #include <string>
 
@@ -15,9 +15,6 @@ struct RefineFlags {
   static constexpr int kUnset = -2147483647;
   RefineOptions options;              // fields CLI11 can bind directly
   std::string removed_is;             // "", "removed", "remaining"
-  std::string delta_mode = "distance";
-  std::string spatial = "on";
-  std::string threshold = "0.5";
   std::string solver_options;         // JSON text (only when AddSolverFlags was called)
   int object_id = kUnset;
 };
@@ -35,8 +32,8 @@ void AddDecisionFlags(CLI::App& app, RefineFlags& flags);
 // --solver --solver-options (refine: one solver; compare has its own --solvers)
 void AddSolverFlags(CLI::App& app, RefineFlags& flags);
 
-// The parsed flags as RefineOptions. Throws al::Error (usage) for a bad --threshold or
-// --solver-options.
+// The parsed flags as RefineOptions. Throws al::Error (usage) for bad --solver-options; ranges
+// are checked by the library (RefineOptions::Check) when the command runs.
 RefineOptions ToRefineOptions(const RefineFlags& flags);
 
 }  // namespace al::cli

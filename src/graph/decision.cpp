@@ -65,7 +65,7 @@ DecisionRule ParseDecisionRule(const std::string& text) {
     int p = -1;
     const auto [ptr, ec] = std::from_chars(num.data(), num.data() + num.size(), p);
     if (ec != std::errc() || ptr != num.data() + num.size() || p < 0 || p > 100)
-      throw Error("--threshold: '" + text + "': expected percentile:P with an integer P in [0, 100]",
+      throw Error("'" + text + "' is not percentile:P with an integer P in [0, 100]",
                   ExitCode::kUsage);
     rule.kind = DecisionRule::Kind::kPercentile;
     rule.percentile = p;
@@ -79,18 +79,24 @@ DecisionRule ParseDecisionRule(const std::string& text) {
     used = 0;
   }
   if (used == 0 || used != text.size() || !std::isfinite(t))
-    throw Error("--threshold: '" + text + "': expected a number (e.g. 0.5) or percentile:95",
+    throw Error("'" + text + "' is not a number (e.g. 0.5) or percentile:P (e.g. percentile:95)",
                 ExitCode::kUsage);
   rule.threshold = t;
   return rule;
 }
 
 const OptionTable<DecisionOptions>& DecisionOptions::Table() {
-  OptionField<DecisionOptions> threshold{"threshold", OptionType::kText, "tau in [0, 1] or percentile:P",
-                                         "decision: a number tau or percentile:P (nearest rank over C)",
+  OptionField<DecisionOptions> threshold{"threshold", OptionType::kText, "TAU|percentile:P",
+                                         "decision: a number tau in [0, 1], or percentile:P with P in [0, 100] (nearest rank over C)",
                                          false, {}, {}, {}};
   threshold.get = [](const DecisionOptions& o) { return nlohmann::json(o.rule.ToString()); };
-  threshold.set = [](DecisionOptions& o, const nlohmann::json& v) { o.rule = ParseDecisionRule(v.get<std::string>()); };
+  threshold.set = [](DecisionOptions& o, const nlohmann::json& v) {
+    try {
+      o.rule = ParseDecisionRule(v.get<std::string>());
+    } catch (const Error& e) {
+      throw Error(std::string("decision option 'threshold': ") + e.what(), ExitCode::kUsage);
+    }
+  };
   threshold.in_range = [](const DecisionOptions& o) {
     return o.rule.kind == DecisionRule::Kind::kPercentile ? o.rule.percentile >= 0 && o.rule.percentile <= 100
                                                           : o.rule.threshold >= 0.0 && o.rule.threshold <= 1.0;

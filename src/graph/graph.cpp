@@ -309,4 +309,12 @@ nlohmann::json GraphStatsToJson(const GraphStats& s) {
                        {"total", s.seconds_total}}}};
 }
 
+nlohmann::json GraphStats::ToJson() const { return GraphStatsToJson(*this); }
+
+std::string GraphStats::BriefReport() const {
+  return "nodes " + std::to_string(nodes) + " (removed " + std::to_string(removed_nodes) + "), edges " +
+         std::to_string(edges) + " of " + std::to_string(edges_knn) + " kNN, " + std::to_string(components) +
+         (components == 1 ? " component" : " components");
+}
+
 }  // namespace al

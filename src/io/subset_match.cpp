@@ -117,6 +117,117 @@ std::int64_t Cell(double v, double t) {
   return static_cast<std::int64_t>(std::clamp(c, -lim, lim));
 }
 
+// Only the column groups both scenes carry (with the row counts they claim) enter the key.
+KeyLayout SharedLayout(const Scene& scene, const Scene& subset) {
+  const auto n = Eigen::Index(scene.size()), m = Eigen::Index(subset.size());
+  KeyLayout layout;
+  layout.opacity = scene.has_opacity && subset.has_opacity && scene.opacity_logits.size() == n &&
+                   subset.opacity_logits.size() == m;
+  layout.scales = scene.has_scales && subset.has_scales && scene.log_scales.rows() == n &&
+                  subset.log_scales.rows() == m;
+  layout.rotations = scene.has_rotations && subset.has_rotations && scene.rotations.rows() == n &&
+                     subset.rotations.rows() == m;
+  layout.f_dc = scene.has_f_dc && subset.has_f_dc && scene.sh.rows() == n && scene.sh.cols() >= 3 &&
+                subset.sh.rows() == m && subset.sh.cols() >= 3;
+  return layout;
+}
+
+// Pass 1: order-preserving walk; stops at the first subset row not found further on.
+void MatchInOrder(const KeyTable& skeys, const KeyTable& qkeys, std::vector<bool>& used, SubsetMatch& m) {
+  const std::size_t n = used.size(), w = skeys.width;
+  std::size_t i = 0;
+  for (std::size_t j = 0; j < m.scene_index.size(); ++j) {
+    std::size_t k = i;
+    while (k < n && !Equal(skeys.Row(k), qkeys.Row(j), w)) ++k;
+    if (k == n) break;
+    m.scene_index[j] = static_cast<std::int64_t>(k);
+    used[k] = true;
+    ++m.matched_in_order;
+    i = k + 1;
+  }
+}
+
+std::size_t CountAmbiguous(const KeyGroups& groups, const KeyTable& qkeys, std::size_t rows) {
+  std::size_t ambiguous = 0;
+  for (std::size_t j = 0; j < rows; ++j) {
+    const std::size_t g = groups.Find(qkeys.Row(j));
+    if (g != KeyGroups::npos && groups.GroupSize(g) > 1) ++ambiguous;
+  }
+  return ambiguous;
+}
+
+// Pass 2: each remaining row takes the smallest unused scene index with its key.
+void MatchByKey(KeyGroups& groups, const KeyTable& qkeys, std::vector<bool>& used, SubsetMatch& m) {
+  for (std::size_t j = 0; j < m.scene_index.size(); ++j) {
+    if (m.scene_index[j] >= 0) continue;
+    const std::size_t g = groups.Find(qkeys.Row(j));
+    if (g == KeyGroups::npos) continue;
+    std::size_t& c = groups.cursor[g];
+    const std::size_t end = groups.group_end[g];
+    while (c < end && used[static_cast<std::size_t>(groups.order[c])]) ++c;
+    if (c == end) continue;
+    const auto idx = groups.order[c];
+    used[static_cast<std::size_t>(idx)] = true;
+    m.scene_index[j] = idx;
+    ++m.matched_by_hash;
+  }
+}
+
+bool FiniteCentre(const Scene& s, std::size_t i) {
+  return std::isfinite(s.means(i, 0)) && std::isfinite(s.means(i, 1)) && std::isfinite(s.means(i, 2));
+}
+
+using CentreGrid = std::unordered_map<CellKey, std::vector<std::int64_t>, CellHash>;
+
+// Unused finite scene centres bucketed in cells of size t.
+CentreGrid BuildCentreGrid(const Scene& scene, const std::vector<bool>& used, double t) {
+  CentreGrid grid;
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    if (used[i] || !FiniteCentre(scene, i)) continue;
+    grid[{Cell(scene.means(i, 0), t), Cell(scene.means(i, 1), t), Cell(scene.means(i, 2), t)}].push_back(
+        static_cast<std::int64_t>(i));
+  }
+  return grid;
+}
+
+// Nearest unused scene centre to subset row j within distance t (ties: the smaller index), or -1.
+std::int64_t NearestUnused(const Scene& scene, const Scene& subset, std::size_t j, const CentreGrid& grid,
+                           const std::vector<bool>& used, double t) {
+  const double x = subset.means(j, 0), y = subset.means(j, 1), z = subset.means(j, 2);
+  const CellKey c{Cell(x, t), Cell(y, t), Cell(z, t)};
+  std::int64_t best = -1;
+  double best_d2 = t * t;
+  for (int dx = -1; dx <= 1; ++dx)
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dz = -1; dz <= 1; ++dz) {
+        auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
+        if (it == grid.end()) continue;
+        for (std::int64_t i : it->second) {
+          if (used[static_cast<std::size_t>(i)]) continue;
+          const double ex = scene.means(i, 0) - x, ey = scene.means(i, 1) - y, ez = scene.means(i, 2) - z;
+          const double d2 = ex * ex + ey * ey + ez * ez;
+          if (d2 < best_d2 || (d2 == best_d2 && (best < 0 || i < best))) {
+            best_d2 = d2;
+            best = i;
+          }
+        }
+      }
+  return best;
+}
+
+// Pass 3: nearest unused scene centre within the tolerance (grid of cell size t).
+void MatchByTolerance(const Scene& scene, const Scene& subset, double t, std::vector<bool>& used, SubsetMatch& m) {
+  const CentreGrid grid = BuildCentreGrid(scene, used, t);
+  for (std::size_t j = 0; j < subset.size(); ++j) {
+    if (m.scene_index[j] >= 0 || !FiniteCentre(subset, j)) continue;
+    const std::int64_t best = NearestUnused(scene, subset, j, grid, used, t);
+    if (best < 0) continue;
+    used[static_cast<std::size_t>(best)] = true;
+    m.scene_index[j] = best;
+    ++m.matched_by_tolerance;
+  }
+}
+
 }  // namespace
 
 SubsetMatch MatchSubset(const Scene& scene, const Scene& subset, double match_tolerance) {
@@ -125,98 +236,16 @@ SubsetMatch MatchSubset(const Scene& scene, const Scene& subset, double match_to
   m.scene_index.assign(mrows, -1);
   if (mrows == 0) return m;
 
-  KeyLayout layout;
-  layout.opacity = scene.has_opacity && subset.has_opacity && scene.opacity_logits.size() == Eigen::Index(n) &&
-                   subset.opacity_logits.size() == Eigen::Index(mrows);
-  layout.scales = scene.has_scales && subset.has_scales && scene.log_scales.rows() == Eigen::Index(n) &&
-                  subset.log_scales.rows() == Eigen::Index(mrows);
-  layout.rotations = scene.has_rotations && subset.has_rotations && scene.rotations.rows() == Eigen::Index(n) &&
-                     subset.rotations.rows() == Eigen::Index(mrows);
-  layout.f_dc = scene.has_f_dc && subset.has_f_dc && scene.sh.rows() == Eigen::Index(n) && scene.sh.cols() >= 3 &&
-                subset.sh.rows() == Eigen::Index(mrows) && subset.sh.cols() >= 3;
+  const KeyLayout layout = SharedLayout(scene, subset);
   const KeyTable skeys = BuildKeys(scene, layout);
   const KeyTable qkeys = BuildKeys(subset, layout);
-  const std::size_t w = skeys.width;
   std::vector<bool> used(n, false);
-
-  // Pass 1: order-preserving walk; stops at the first subset row not found further on.
-  {
-    std::size_t i = 0;
-    for (std::size_t j = 0; j < mrows; ++j) {
-      std::size_t k = i;
-      while (k < n && !Equal(skeys.Row(k), qkeys.Row(j), w)) ++k;
-      if (k == n) break;
-      m.scene_index[j] = static_cast<std::int64_t>(k);
-      used[k] = true;
-      ++m.matched_in_order;
-      i = k + 1;
-    }
-  }
-
-  // Key groups serve both the ambiguity count and pass 2.
-  KeyGroups groups(skeys, n);
-  for (std::size_t j = 0; j < mrows; ++j) {
-    const std::size_t g = groups.Find(qkeys.Row(j));
-    if (g != KeyGroups::npos && groups.GroupSize(g) > 1) ++m.ambiguous;
-  }
-
-  // Pass 2: each remaining row takes the smallest unused scene index with its key.
-  if (m.matched_in_order < mrows) {
-    for (std::size_t j = 0; j < mrows; ++j) {
-      if (m.scene_index[j] >= 0) continue;
-      const std::size_t g = groups.Find(qkeys.Row(j));
-      if (g == KeyGroups::npos) continue;
-      std::size_t& c = groups.cursor[g];
-      const std::size_t end = groups.group_end[g];
-      while (c < end && used[static_cast<std::size_t>(groups.order[c])]) ++c;
-      if (c == end) continue;
-      const auto idx = groups.order[c];
-      used[static_cast<std::size_t>(idx)] = true;
-      m.scene_index[j] = idx;
-      ++m.matched_by_hash;
-    }
-  }
-
-  // Pass 3: nearest unused scene centre within the tolerance (grid of cell size T).
-  const std::size_t after2 = m.matched_in_order + m.matched_by_hash;
-  if (match_tolerance > 0 && std::isfinite(match_tolerance) && after2 < mrows) {
-    const double t = match_tolerance;
-    std::unordered_map<CellKey, std::vector<std::int64_t>, CellHash> grid;
-    for (std::size_t i = 0; i < n; ++i) {
-      if (used[i]) continue;
-      const double x = scene.means(i, 0), y = scene.means(i, 1), z = scene.means(i, 2);
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
-      grid[{Cell(x, t), Cell(y, t), Cell(z, t)}].push_back(static_cast<std::int64_t>(i));
-    }
-    for (std::size_t j = 0; j < mrows; ++j) {
-      if (m.scene_index[j] >= 0) continue;
-      const double x = subset.means(j, 0), y = subset.means(j, 1), z = subset.means(j, 2);
-      if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z)) continue;
-      const CellKey c{Cell(x, t), Cell(y, t), Cell(z, t)};
-      std::int64_t best = -1;
-      double best_d2 = t * t;
-      for (int dx = -1; dx <= 1; ++dx)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dz = -1; dz <= 1; ++dz) {
-            auto it = grid.find({c.x + dx, c.y + dy, c.z + dz});
-            if (it == grid.end()) continue;
-            for (std::int64_t i : it->second) {
-              if (used[static_cast<std::size_t>(i)]) continue;
-              const double ex = scene.means(i, 0) - x, ey = scene.means(i, 1) - y, ez = scene.means(i, 2) - z;
-              const double d2 = ex * ex + ey * ey + ez * ez;
-              if (d2 < best_d2 || (d2 == best_d2 && (best < 0 || i < best))) {
-                best_d2 = d2;
-                best = i;
-              }
-            }
-          }
-      if (best >= 0) {
-        used[static_cast<std::size_t>(best)] = true;
-        m.scene_index[j] = best;
-        ++m.matched_by_tolerance;
-      }
-    }
-  }
+  MatchInOrder(skeys, qkeys, used, m);
+  KeyGroups groups(skeys, n);  // serves both the ambiguity count and pass 2
+  m.ambiguous = CountAmbiguous(groups, qkeys, mrows);
+  if (m.matched_in_order < mrows) MatchByKey(groups, qkeys, used, m);
+  if (match_tolerance > 0 && std::isfinite(match_tolerance) && m.matched_in_order + m.matched_by_hash < mrows)
+    MatchByTolerance(scene, subset, match_tolerance, used, m);
   m.unmatched = mrows - m.matched_in_order - m.matched_by_hash - m.matched_by_tolerance;
   return m;
 }

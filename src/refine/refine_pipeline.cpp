@@ -2,6 +2,7 @@
 // al/refine/stages.hpp in a row, then the outputs. Files and memory differ only in how the inputs
 // are loaded; from there on both run RefineLoaded, so the CLI and the Python module agree.
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 
 #include "al/core/error.hpp"
@@ -50,23 +51,21 @@ void WriteRefineOutputs(const RefineOptions& o, const RefineInputs& in, const Gr
     ExportProblem(graph.problem, solved.empty_graph ? nullptr : &solved.p, o.export_problem_dir, o.graph.lambda);
 }
 
+// The graph and decision fields come from their options tables (the same names as the flags).
 nlohmann::json RefineParams(const RefineOptions& o, const RefineInputs& in, const std::string& solver_name) {
-  const GraphOptions& go = o.graph;
-  return {{"scene", o.scene}, {"removed", o.removed},
-          {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-          {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
-          {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
-          {"decoder", o.decoder},
-          {"k", go.k}, {"delta", go.delta},
-          {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
-          {"lambda", go.lambda}, {"spatial", go.spatial}, {"hops", go.hops},
-          {"radius_scale", go.radius_scale}, {"knn_checks", go.knn_checks},
-          {"kl_smoothing", go.kl_smoothing}, {"solver", solver_name}, {"solver_options", o.solver_options},
-          {"threshold", o.decision.rule.ToString()}, {"restore", o.decision.restore},
-          {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
-          {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
-          {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
-          {"export_problem", o.export_problem_dir}};
+  nlohmann::json params = {
+      {"scene", o.scene}, {"removed", o.removed},
+      {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+      {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
+      {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
+      {"decoder", o.decoder}, {"solver", solver_name}, {"solver_options", o.solver_options},
+      {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
+      {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
+      {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
+      {"export_problem", o.export_problem_dir}};
+  params.update(GraphOptions::Table().ToJson(o.graph));
+  params.update(DecisionOptions::Table().ToJson(o.decision));
+  return params;
 }
 
 // Graph → solve → decide → ground-truth scores → outputs (when out_dir is set) → report.
@@ -153,10 +152,21 @@ nlohmann::json RefineResult::Summary() const {
   return s;
 }
 
+void RefineOptions::Check() const {
+  graph.Check();
+  decision.Check();
+  if (!(match_tol >= 0.0) || !std::isfinite(match_tol))
+    throw Error("refine option 'match_tol' = " + FormatOptionNumber(match_tol) + " must be >= 0", ExitCode::kUsage);
+  if (!(fgs_threshold >= 0.0 && fgs_threshold <= 1.0))  // a sum of softmax probabilities
+    throw Error("refine option 'fgs_threshold' = " + FormatOptionNumber(fgs_threshold) + " must be in [0, 1]",
+                ExitCode::kUsage);
+}
+
 RefineResult RunRefine(const RefineOptions& o) {
   Timer total;
   nlohmann::json report = NewReport("refine");
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  o.Check();
   const std::string solver_name = ResolveSolverName(o.solver);
   auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
   const RefineInputs in = LoadRefineInputs(o, report);
@@ -166,6 +176,7 @@ RefineResult RunRefine(const RefineOptions& o) {
 RefineResult RunRefine(const RefineData& data, const RefineOptions& options) {
   Timer total;
   nlohmann::json report = NewReport("refine");
+  options.Check();
   RefineOptions o = options;
   if (o.scene.empty()) o.scene = data.scene && !data.scene->source_path.empty() ? data.scene->source_path : data.name;
   if (o.removed.empty() && data.removed.data != nullptr) o.removed = data.name;

@@ -339,8 +339,7 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   }
   SolverResult sr = solver.Solve(graph.problem);
   out.warnings = sr.warnings;
-  out.solver = {{"name", sr.solver}, {"objective", sr.objective}, {"iterations", sr.iterations},
-                {"converged", sr.converged}, {"seconds", sr.seconds}, {"stats", sr.stats}};
+  out.solver = sr.ToJson();
   const DecisionResult d = ApplyDecision(inputs.removal.removed, graph.problem, sr.p, decision);
   out.refined = d.refined;
   out.added = d.added;

@@ -20,19 +20,65 @@ namespace fs = std::filesystem;
 
 std::string GridError(const std::string& what) { return "--grid: " + what; }
 
-int ParseInt(const std::string& key, const std::string& text) {
-  const double v = ParseGridNumber(key, text);
-  if (v != std::floor(v) || std::abs(v) > 1e9)
-    throw Error(GridError(key + ": '" + text + "' is not an integer"), ExitCode::kUsage);
-  return static_cast<int>(v);
-}
-
 template <class T>
 void PushUnique(std::vector<T>& values, const T& v) {
   if (std::find(values.begin(), values.end(), v) == values.end()) values.push_back(v);
 }
 
 std::string Num(double v) { return nlohmann::json(v).dump(); }
+
+// A value of an options field, parsed and range-checked by that field's table exactly as the CLI
+// flag (--k, --threshold, ...) is: the whole options struct is checked with the value in place.
+template <class O>
+O WithGridValue(const O& base, const std::string& field, const std::string& text) {
+  O probe = base;
+  try {
+    O::Table().SetText(probe, field, text);
+    probe.Check();
+  } catch (const Error& e) {
+    throw Error(GridError(e.what()), ExitCode::kUsage);
+  }
+  return probe;
+}
+
+const char* const kGridKeys = "k, delta, hops, radius_scale, lambda, solver, threshold, segment_share";
+
+void AddGridValue(SweepGrid& g, const std::string& key, const std::string& v, const RefineOptions& base) {
+  if (key == "k") {
+    PushUnique(g.k, WithGridValue(base.graph, key, v).k);
+  } else if (key == "delta") {
+    PushUnique(g.delta, WithGridValue(base.graph, key, v).delta);
+  } else if (key == "hops") {
+    PushUnique(g.hops, WithGridValue(base.graph, key, v).hops);
+  } else if (key == "radius_scale") {
+    PushUnique(g.radius_scale, WithGridValue(base.graph, key, v).radius_scale);
+  } else if (key == "lambda") {
+    PushUnique(g.lambda, WithGridValue(base.graph, key, v).lambda);
+  } else if (key == "solver") {
+    const auto names = SolverNames();
+    if (std::find(names.begin(), names.end(), v) == names.end())
+      throw Error(GridError("unknown solver '" + v + "'"), ExitCode::kUsage);
+    PushUnique(g.solver, v);
+  } else if (key == "threshold") {
+    PushUnique(g.threshold, WithGridValue(base.decision, "threshold", v).rule.ToString());
+  } else if (key == "segment_share") {
+    PushUnique(g.segment_share, WithGridValue(base.decision, "min_segment_share", v).min_segment_share);
+  } else {
+    throw Error(GridError("unknown key '" + key + "' (" + kGridKeys + ")"), ExitCode::kUsage);
+  }
+}
+
+// Axes the grid does not name take the base options' single value.
+void FillUnnamedAxes(SweepGrid& g, const RefineOptions& base) {
+  if (g.k.empty()) g.k = {base.graph.k};
+  if (g.delta.empty()) g.delta = {base.graph.delta};
+  if (g.hops.empty()) g.hops = {base.graph.hops};
+  if (g.radius_scale.empty()) g.radius_scale = {base.graph.radius_scale};
+  if (g.lambda.empty()) g.lambda = {base.graph.lambda};
+  if (g.solver.empty()) g.solver = {ResolveSolverName(base.solver)};
+  if (g.threshold.empty()) g.threshold = {base.decision.rule.ToString()};
+  if (g.segment_share.empty()) g.segment_share = {base.decision.min_segment_share};
+}
 
 }  // namespace
 
@@ -42,6 +88,7 @@ std::size_t SweepGrid::size() const {
 }
 
 SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
+  base.Check();  // a grid value is checked with the other options in place: they must be valid first
   SweepGrid g;
   std::set<std::string> seen;
   for (const std::string& item : SplitTrimmed(text, ';')) {
@@ -54,51 +101,10 @@ SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base) {
     if (values.empty()) throw Error(GridError(key + ": no values"), ExitCode::kUsage);
     for (const std::string& v : values) {
       if (v.empty()) throw Error(GridError(key + ": empty value"), ExitCode::kUsage);
-      if (key == "k") {
-        const int k = ParseInt(key, v);
-        if (k < 1) throw Error(GridError("k must be >= 1"), ExitCode::kUsage);
-        PushUnique(g.k, k);
-      } else if (key == "delta") {
-        PushUnique(g.delta, ParseGridNumber(key, v));
-      } else if (key == "hops") {
-        const int h = ParseInt(key, v);
-        if (h < 1) throw Error(GridError("hops must be >= 1"), ExitCode::kUsage);
-        PushUnique(g.hops, h);
-      } else if (key == "radius_scale") {
-        const double r = ParseGridNumber(key, v);
-        if (!(r > 0)) throw Error(GridError("radius_scale must be > 0"), ExitCode::kUsage);
-        PushUnique(g.radius_scale, r);
-      } else if (key == "lambda") {
-        const double l = ParseGridNumber(key, v);
-        if (!(l >= 0)) throw Error(GridError("lambda must be >= 0"), ExitCode::kUsage);
-        PushUnique(g.lambda, l);
-      } else if (key == "solver") {
-        const auto names = SolverNames();
-        if (std::find(names.begin(), names.end(), v) == names.end())
-          throw Error(GridError("unknown solver '" + v + "'"), ExitCode::kUsage);
-        PushUnique(g.solver, v);
-      } else if (key == "threshold") {
-        PushUnique(g.threshold, ParseDecisionRule(v).ToString());
-      } else if (key == "segment_share") {
-        const double m = ParseGridNumber(key, v);
-        if (!(m >= 0 && m <= 1)) throw Error(GridError("segment_share must be in [0, 1]"), ExitCode::kUsage);
-        PushUnique(g.segment_share, m);
-      } else {
-        throw Error(GridError("unknown key '" + key + "' (k, delta, hops, radius_scale, lambda, solver, threshold, "
-                              "segment_share)"),
-                    ExitCode::kUsage);
-      }
+      AddGridValue(g, key, v, base);
     }
   }
-  // Axes the grid does not name take the base options' single value.
-  if (g.k.empty()) g.k = {base.graph.k};
-  if (g.delta.empty()) g.delta = {base.graph.delta};
-  if (g.hops.empty()) g.hops = {base.graph.hops};
-  if (g.radius_scale.empty()) g.radius_scale = {base.graph.radius_scale};
-  if (g.lambda.empty()) g.lambda = {base.graph.lambda};
-  if (g.solver.empty()) g.solver = {ResolveSolverName(base.solver)};
-  if (g.threshold.empty()) g.threshold = {base.decision.rule.ToString()};
-  if (g.segment_share.empty()) g.segment_share = {base.decision.min_segment_share};
+  FillUnnamedAxes(g, base);
   return g;
 }
 

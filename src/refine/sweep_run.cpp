@@ -65,6 +65,7 @@ std::map<std::string, std::unique_ptr<Solver>> CheckOptionsAndMakeSolvers(const 
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
   if (o.scenes.empty()) throw Error("sweep: no scene (give --scene/--removed or --manifest)", ExitCode::kUsage);
   if (o.grid.size() == 0) throw Error("--grid: empty grid", ExitCode::kUsage);
+  for (const SweepScene& scene : o.scenes) scene.options.Check();
   if (!o.solver_options.is_object()) throw Error("--solver-options: expected a JSON object {solver: {...}}", ExitCode::kUsage);
   for (const auto& [name, value] : o.solver_options.items()) {
     if (std::find(o.grid.solver.begin(), o.grid.solver.end(), name) == o.grid.solver.end())

@@ -39,6 +39,19 @@ PY
 
 "$BIN" synth --preset room --gaussians 20000 --seed 3 --views 2 --resolution 32x24 --no-masks --quiet --out "$T/s" >/dev/null
 
+# Out-of-range values are refused before any file is read (exit 1, the table's words), and no
+# output folder appears.
+for bad in "--threshold -1" "--knn-checks -5" "--k 0" "--hops 101" "--kl-smoothing 1" "--delta-mode cos"; do
+  set +e
+  msg=$("$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" $bad --out "$T/bad" 2>&1 >/dev/null)
+  rc=$?
+  set -e
+  [ "$rc" = 1 ] || fail "$bad: exit $rc, expected 1 (usage)"
+  name=$(echo "$bad" | sed 's/^--//; s/ .*//; s/-/_/g')
+  echo "$msg" | grep -q "option '$name'" || fail "$bad: message does not name the option: $msg"
+  [ ! -e "$T/bad" ] || fail "$bad: wrote $T/bad"
+done
+
 # FGS mask + ground truth.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk \
   --labels "$T/s/labels.npy" --out "$T/fgs" --quiet >/dev/null || fail "fgs run"

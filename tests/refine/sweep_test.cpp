@@ -45,7 +45,8 @@ TEST(SweepGrid, ParsesAxesAndFillsTheRestFromTheBase) {
 
 TEST(SweepGrid, RejectsBadGrids) {
   for (const char* bad : {"k=", "k=4;k=6", "kk=1", "k=0", "k=2.5", "delta=x", "solver=nope", "lambda=-1",
-                          "k", "threshold=percentile:x", "hops=0", "segment_share=1.5"}) {
+                          "k", "threshold=percentile:x", "hops=-1", "segment_share=1.5", "threshold=-1",
+                          "radius_scale=0", "k=1001"}) {
     try {
       ParseSweepGrid(bad, Base());
       ADD_FAILURE() << "accepted " << bad;
@@ -53,6 +54,27 @@ TEST(SweepGrid, RejectsBadGrids) {
       EXPECT_EQ(e.code(), ExitCode::kUsage) << bad;
     }
   }
+}
+
+TEST(SweepGrid, AxesTakeTheRangesAndWordsOfTheOptionsTables) {
+  // hops = 0 (candidates = the removed set) is a valid graph option, so it is a valid grid value.
+  EXPECT_EQ(ParseSweepGrid("hops=0,2", Base()).hops, (std::vector<int>{0, 2}));
+  // A bad value gets the table's message, the one `--k 0` gets on the command line.
+  GraphOptions g;
+  g.k = 0;
+  std::string table_message, grid_message;
+  try {
+    g.Check();
+  } catch (const Error& e) {
+    table_message = e.what();
+  }
+  try {
+    ParseSweepGrid("k=0", Base());
+  } catch (const Error& e) {
+    grid_message = e.what();
+  }
+  EXPECT_NE(table_message.find("'k' = 0 must be in [1, 1000]"), std::string::npos) << table_message;
+  EXPECT_EQ(grid_message, "--grid: " + table_message);
 }
 
 TEST(SweepGrid, PointsSharingAGraphAreConsecutive) {

@@ -189,7 +189,8 @@ class OptionTable {
 
  private:
   static std::string Spell(const nlohmann::json& v) {
-    return v.is_number() ? FormatOptionNumber(v.get<double>()) : v.dump();
+    if (v.is_number()) return FormatOptionNumber(v.get<double>());
+    return v.is_string() ? v.get<std::string>() : v.dump();
   }
   OptionTable&& Add(OptionField<O> field) {
     if (Has(field.name)) throw Error(scope_ + ": option '" + field.name + "' declared twice", ExitCode::kInternal);

@@ -56,6 +56,9 @@ struct GraphStats {
   double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
   double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;
+
+  nlohmann::json ToJson() const;  // report.json's "graph" block (GraphStatsToJson)
+  std::string BriefReport() const;  // "nodes 1234 (removed 800), edges 5678 of 9000 kNN, 3 components"
 };
 
 struct GraphResult {

@@ -43,6 +43,10 @@ struct RefineOptions {
   std::string export_problem_dir;     // non-empty: write the solvers' problem + p as .npy (problem_io.hpp)
   // Called after each stage with its name and duration (the CLI prints the slow ones).
   std::function<void(const std::string& stage, double seconds)> on_stage;
+
+  // The ranges of the graph and decision tables and of the numeric input options; throws al::Error
+  // (usage) naming the option. RunRefine calls it before reading any file.
+  void Check() const;
 };
 
 struct RefineResult {
