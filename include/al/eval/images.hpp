@@ -21,4 +21,11 @@ Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object)
 // Returns the number of painted pixels through `painted` (may be null).
 Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr);
 
+// The feature segmentations of a before/after pair side by side (2W x H): left the "before" render
+// with its target pixels tinted blue, right the "after" render with its target pixels tinted blue
+// and the residual pixels (object ∩ target before ∩ target after) red; the object outline green on
+// both. Renders are dimmed to grey so the colours read.
+Image8 FeatureSegImage(const RenderOutput& before, const RenderOutput& after, const metrics::Mask& object,
+                       const metrics::Mask& target_before, const metrics::Mask& target_after);
+
 }  // namespace al::eval

@@ -1,0 +1,186 @@
+// FeatureScorer (al/eval/feature_eval.hpp): channels, prototypes, segmentation and scores.
+#include "al/eval/feature_eval.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "al/core/error.hpp"
+#include "al/core/timer.hpp"
+#include "al/eval/kmeans.hpp"
+#include "al/graph/candidates.hpp"
+
+namespace al::eval {
+namespace {
+
+using json = nlohmann::json;
+constexpr std::size_t kMaxClusterRows = 50000;  // k-means sample (evenly spaced over the candidates)
+
+// Normalised sum of the channel rows where take(i); empty when nothing (or only zero rows) summed.
+template <class Take>
+Eigen::VectorXf UnitMean(const RowMatXf& channels, Take take, std::size_t& count) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(channels.cols());
+  count = 0;
+  for (Eigen::Index i = 0; i < channels.rows(); ++i)
+    if (take(std::size_t(i))) {
+      sum += channels.row(i).transpose().cast<double>();
+      ++count;
+    }
+  const double norm = sum.norm();
+  if (!(norm > 0) || !std::isfinite(norm)) return {};
+  return (sum / norm).cast<float>();
+}
+
+void AddPrototype(metrics::Prototypes& p, const Eigen::VectorXf& row, const std::string& name) {
+  p.rows.conservativeResize(p.rows.rows() + 1, row.size());
+  p.rows.row(p.rows.rows() - 1) = row.transpose();
+  p.names.push_back(name);
+}
+
+metrics::Prototypes FromLabels(const RowMatXf& channels, const std::vector<std::int32_t>& labels, int target,
+                               json& info) {
+  metrics::Prototypes p;
+  std::map<std::int32_t, std::size_t> ids;
+  for (std::int32_t l : labels) ++ids[l];
+  if (!ids.count(target)) throw Error("feature metrics: no Gaussian has object id " + std::to_string(target));
+  json sizes = json::object();
+  for (const auto& [id, n] : ids) {
+    std::size_t count = 0;
+    const Eigen::VectorXf row = UnitMean(channels, [&](std::size_t i) { return labels[i] == id; }, count);
+    if (row.size() == 0) {
+      if (id == target) throw Error("feature metrics: the target object's features average to zero");
+      continue;  // an object whose features are all zero cannot be told apart: no competitor
+    }
+    if (id == target) p.target = static_cast<int>(p.rows.rows());
+    std::string name = id == target ? "target: label " : "label ";
+    name += std::to_string(id);
+    AddPrototype(p, row, name);
+    sizes[std::to_string(id)] = n;
+  }
+  info = {{"source", "labels"}, {"object_id", target}, {"gaussians_per_label", sizes}};
+  return p;
+}
+
+// Kept Gaussians whose 3σ spheres reach the set within `hops` growth steps.
+std::vector<std::uint8_t> KeptCandidates(const Scene& scene, const std::vector<bool>& set, int hops) {
+  const std::size_t n = scene.size();
+  std::vector<float> xyz(3 * n);
+  std::vector<double> radii(n);
+  std::vector<std::uint8_t> active(n), seeds(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    double r = 0;
+    bool ok = true;
+    for (int a = 0; a < 3; ++a) {
+      xyz[3 * i + a] = scene.means(Eigen::Index(i), a);
+      ok = ok && std::isfinite(xyz[3 * i + a]);
+      r = std::max(r, 3.0 * std::exp(double(scene.log_scales(Eigen::Index(i), a))));
+    }
+    active[i] = ok && std::isfinite(r);
+    radii[i] = active[i] ? r : 0.0;
+    seeds[i] = set[i] ? 1 : 0;
+  }
+  std::vector<std::uint8_t> in = GrowCandidates(xyz, radii, active, seeds, hops);
+  for (std::size_t i = 0; i < n; ++i) in[i] = in[i] && !set[i];
+  return in;
+}
+
+metrics::Prototypes FromSet(const Scene& scene, const RowMatXf& channels, const std::vector<bool>& set,
+                            const std::string& source, const FeatureEvalOptions& o, json& info) {
+  metrics::Prototypes p;
+  std::size_t count = 0;
+  const Eigen::VectorXf target = UnitMean(channels, [&](std::size_t i) { return bool(set[i]); }, count);
+  if (target.size() == 0) throw Error("feature metrics: the " + source + " set's features average to zero");
+  AddPrototype(p, target, "target: " + source);
+  const std::vector<std::uint8_t> kept = KeptCandidates(scene, set, o.candidate_hops);
+  std::vector<Eigen::Index> rows;
+  for (std::size_t i = 0; i < kept.size(); ++i)
+    if (kept[i]) rows.push_back(Eigen::Index(i));
+  const std::size_t m = std::min(rows.size(), kMaxClusterRows);
+  RowMatXf sample(static_cast<Eigen::Index>(m), channels.cols());
+  for (std::size_t k = 0; k < m; ++k) sample.row(Eigen::Index(k)) = channels.row(rows[k * rows.size() / m]);
+  const KMeansResult km = m > 0 ? SphericalKMeans(sample, o.kmeans_k) : KMeansResult{};
+  json clusters = json::array();
+  for (Eigen::Index c = 0; c < km.centroids.rows(); ++c) {
+    const double cos = km.centroids.row(c).dot(target);
+    const bool merged = cos >= o.merge_similarity;
+    clusters.push_back({{"size", km.sizes[std::size_t(c)]}, {"cosine_to_target", cos}, {"dropped", merged}});
+    if (!merged) AddPrototype(p, km.centroids.row(c).transpose(), "cluster " + std::to_string(c));
+  }
+  info = {{"source", source},      {"target_gaussians", count}, {"kept_candidates", rows.size()},
+          {"clustered_rows", m},   {"k", o.kmeans_k},           {"iterations", km.iterations},
+          {"clusters", clusters}};
+  return p;
+}
+
+}  // namespace
+
+void FeatureEvalOptions::Check() const {
+  field.Check();
+  segmentation.Check();
+  if (kmeans_k < 1 || kmeans_k > 256) throw Error("feature metrics: k-means k must be in [1, 256]", ExitCode::kUsage);
+  if (candidate_hops < 1 || candidate_hops > 16)
+    throw Error("feature metrics: candidate hops must be in [1, 16]", ExitCode::kUsage);
+  if (!(merge_similarity >= -1 && merge_similarity <= 1))
+    throw Error("feature metrics: merge similarity must be in [-1, 1]", ExitCode::kUsage);
+}
+
+FeatureScorer::FeatureScorer(const Scene& scene, const FeaturePrototypeInput& in, const FeatureEvalOptions& o)
+    : options_(o) {
+  o.Check();
+  Timer timer;
+  const bool has_labels = o.use_labels && in.labels != nullptr && !in.labels->empty();
+  const bool has_set = !o.target_set.empty();
+  if (o.mode == FeatureEvalOptions::Mode::kOff) {
+    skip_reason_ = "turned off (--feature-metrics off)";
+  } else if (scene.features.cols() == 0) {
+    skip_reason_ = "the scene has no semantic features (semantic_*, obj_dc_*, ...)";
+  } else if (!has_labels && !has_set && (in.removed == nullptr || std::none_of(in.removed->begin(), in.removed->end(),
+                                                                                [](bool b) { return b; }))) {
+    skip_reason_ = "no target prototype: the removal is empty and neither --labels nor prompts were given";
+  }
+  if (!skip_reason_.empty()) {
+    if (o.mode == FeatureEvalOptions::Mode::kOn)
+      throw Error("feature metrics requested but impossible: " + skip_reason_, ExitCode::kUsage);
+    return;
+  }
+  const std::size_t n = scene.size();
+  if ((has_labels && in.labels->size() != n) || (has_set && o.target_set.size() != n) ||
+      (in.removed != nullptr && in.removed->size() != n))
+    throw Error("feature metrics: labels / sets do not match the scene's " + std::to_string(n) + " Gaussians");
+  field_ = PrepareFeatureField(scene.features, o.field);
+  if (has_labels) prototypes_ = FromLabels(field_.channels, *in.labels, in.object_id, prototype_info_);
+  else if (has_set) prototypes_ = FromSet(scene, field_.channels, o.target_set, o.target_set_source, o, prototype_info_);
+  else prototypes_ = FromSet(scene, field_.channels, *in.removed, "removed set", o, prototype_info_);
+  prototype_info_["count"] = prototypes_.rows.rows();
+  prototype_info_["names"] = prototypes_.names;
+  enabled_ = true;
+  seconds_ = timer.Seconds();
+}
+
+metrics::Mask FeatureScorer::Segment(const RenderOutput& r) const {
+  if (!enabled_ || r.feature_dim != field_.dim()) throw Error("feature metrics: the render has no feature image");
+  const metrics::FeatureImage image{r.width, r.height, r.feature_dim, r.feature.data(), r.alpha.data()};
+  return metrics::SegmentTarget(image, prototypes_, options_.segmentation);
+}
+
+FeatureViewMetrics FeatureScorer::Score(const metrics::Mask& object, const metrics::Mask& before,
+                                        const metrics::Mask& after, const std::string& view) const {
+  FeatureViewMetrics m;
+  m.record = metrics::ScoreFeatureSegmentation(object, before, after, view);
+  m.target_pixels_after = after.Count();
+  return m;
+}
+
+json FeatureScorer::ToJson() const {
+  if (!enabled_) return {{"skipped", skip_reason_}};
+  return {{"field", field_.ToJson()},
+          {"prototypes", prototype_info_},
+          {"min_similarity", options_.segmentation.min_similarity},
+          {"min_alpha", options_.segmentation.min_alpha},
+          {"kmeans_k", options_.kmeans_k},
+          {"candidate_hops", options_.candidate_hops},
+          {"merge_similarity", options_.merge_similarity},
+          {"seconds", seconds_}};
+}
+
+}  // namespace al::eval
