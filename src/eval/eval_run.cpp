@@ -103,7 +103,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   // Feature metrics: channels and prototypes once per scene; the renders composite the channels in
   // the RGB pass (al/eval/feature_eval.hpp).
   Timer feature_timer;
-  const FeatureScorer features(scene, {&object.labels, object.object_id, &columns[0].removed}, o.feature);
+  const FeatureScorer features(scene, {&object.labels, object.object_id, &columns[0].removed, &cameras}, o.feature);
   if (!features.enabled())
     for (const auto& c : columns) r.skipped.push_back({"iou_drop_feat", c.name, features.skip_reason()});
   RenderOptions render = o.render;

@@ -4,16 +4,21 @@
 // residual are computed on those segmentations -- with no external segmenter.
 //
 // Prototypes, in the rendered (unit, centred, maybe projected) channel space, each the normalised
-// mean of its Gaussians' channel rows (= the mean unit feature, centred and projected):
+// mean of its Gaussians' channel rows (= the mean unit feature, centred and projected). The
+// "neighbourhood" of a set = refine's candidates of it (al/graph/candidates.hpp: spheres of radius
+// max σ that intersect, `candidate_hops` growth steps) minus the set: what touches the object.
 //  * with ground-truth labels: the target = the labels' target object; the competitors = every
-//    other label id present (0 = background included);
+//    other label id present (0 = background included), each twice: its mean over all its Gaussians
+//    and its mean over those in the target's neighbourhood (features blur across contacts: the
+//    table just under the object looks more like the object than the table's global mean does);
 //  * without labels: the target = the Gaussians of FeatureEvalOptions::target_set when given (FGS's
 //    prompt rule), else the removal method's set (the first column); the competitors = spherical
-//    k-means of the kept candidates' features, where the candidates are the Gaussians whose 3σ
-//    spheres reach the target set within `candidate_hops` growth steps (what surrounds the object)
-//    and "kept" = not in the target set. A cluster at cosine >= merge_similarity to the target
-//    prototype is the target's own kept part (a residual), not a competitor, and is dropped: it
-//    would otherwise take the residual pixels it is meant to reveal.
+//    k-means (k each) of the kept candidates -- the set's neighbourhood -- and of the kept Gaussians
+//    in the evaluated views (the other objects, look-alikes included). A cluster at cosine >=
+//    merge_similarity to the target prototype is taken for the target's own kept part (a
+//    residual), not a competitor, and dropped: it would otherwise take the residual pixels it is
+//    meant to reveal. Without labels a neighbour whose features blurred towards the target cannot
+//    be told from a residual: it is reported as one (it is what a feature segmenter would show).
 #pragma once
 #include <cstdint>
 #include <string>
@@ -21,6 +26,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/io/camera.hpp"
 #include "al/metrics/feature_segmentation.hpp"
 #include "al/render/feature_field.hpp"
 #include "al/render/render.hpp"
@@ -34,7 +40,7 @@ struct FeatureEvalOptions {
   FeatureFieldOptions field;             // centring, channel limit / projection
   metrics::FeatureSegOptions segmentation;
   int kmeans_k = 8;                      // competitor clusters without labels
-  int candidate_hops = 2;                // growth steps from the target set (radius 3σ)
+  int candidate_hops = 1;                // growth steps from the target set (refine's candidates)
   double merge_similarity = 0.8;         // clusters this close to the target prototype are dropped
   bool use_labels = true;                // false: prototypes as without labels even when labels are given
   std::vector<bool> target_set;          // optional prototype source (N) when no labels are given
@@ -47,6 +53,7 @@ struct FeaturePrototypeInput {
   const std::vector<std::int32_t>* labels = nullptr;  // N ids, may be null / empty
   int object_id = 0;
   const std::vector<bool>* removed = nullptr;         // the removal method's set (N)
+  const std::vector<Camera>* cameras = nullptr;       // the evaluated views (competitors without labels)
 };
 
 // Per view and column, next to ColumnViewMetrics' other metrics.
