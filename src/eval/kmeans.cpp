@@ -3,21 +3,27 @@
 #include <algorithm>
 #include <cmath>
 
+#include <random>
+
 #include "al/core/error.hpp"
-#include "fixtures/rng.hpp"
 
 namespace al::eval {
 namespace {
 
 using Matrix = RowMatXf;
 
+// Uniform in [0, 1) from the raw engine output: std::mt19937_64's sequence is fixed by the
+// standard, its distributions are not (they differ between standard libraries).
+double Uniform(std::mt19937_64& rng) { return static_cast<double>(rng() >> 11) * 0x1.0p-53; }
+
 // k-means++ on the distance 1 - cos: the first centre uniformly, each next one with probability
 // proportional to the squared distance to the nearest chosen centre.
 Matrix SeedCentres(const Matrix& unit, int k, std::uint64_t seed) {
   const Eigen::Index n = unit.rows();
-  fixtures::Rng rng(seed, 0x6b6d65616e73ull);
+  std::mt19937_64 rng(seed);
+  auto below = [&](Eigen::Index m) { return static_cast<Eigen::Index>(Uniform(rng) * double(m)); };
   Matrix centres(k, unit.cols());
-  centres.row(0) = unit.row(static_cast<Eigen::Index>(rng.Below(static_cast<std::uint64_t>(n))));
+  centres.row(0) = unit.row(below(n));
   std::vector<double> d2(static_cast<std::size_t>(n));
   for (Eigen::Index i = 0; i < n; ++i) d2[std::size_t(i)] = std::pow(1.0 - unit.row(i).dot(centres.row(0)), 2);
   for (int c = 1; c < k; ++c) {
@@ -25,10 +31,10 @@ Matrix SeedCentres(const Matrix& unit, int k, std::uint64_t seed) {
     for (double v : d2) total += v;
     Eigen::Index pick = 0;
     if (total > 0) {
-      double r = rng.Uniform() * total;
+      double r = Uniform(rng) * total;
       for (; pick < n - 1 && r >= d2[std::size_t(pick)]; ++pick) r -= d2[std::size_t(pick)];
     } else {
-      pick = static_cast<Eigen::Index>(rng.Below(static_cast<std::uint64_t>(n)));
+      pick = below(n);
     }
     centres.row(c) = unit.row(pick);
     for (Eigen::Index i = 0; i < n; ++i)
