@@ -2,41 +2,26 @@
 
 #include "al/core/error.hpp"
 #include "al/refine/fgs_mask.hpp"
+#include "src/cli/option_flags.hpp"
 
 namespace al::cli {
 
 void AddFeatureFlags(CLI::App& app, FeatureFlags& f) {
-  eval::FeatureEvalOptions& o = f.options;
-  app.add_option("--feature-metrics", f.mode, "Feature metrics (IoU_drop_feat, acc_seg_feat, residual_feat): auto "
-                 "(when the scene has semantic features) | on | off")
-      ->check(CLI::IsMember({"auto", "on", "off"}))->capture_default_str();
-  app.add_option("--feature-min-sim", o.segmentation.min_similarity,
-                 "A pixel is the target only at cosine >= this to its prototype (centred features)")
-      ->check(CLI::Range(-1.0, 1.0))->capture_default_str();
-  app.add_option("--feature-channels", o.field.max_channels, "Rendered feature channels; wider features are "
-                 "projected on their principal axes")
-      ->check(CLI::Range(1, kMaxFeatureChannels))->capture_default_str();
-  app.add_option("--feature-centre", f.centre, "Subtract the scene's mean unit feature before cosines: on | off")
-      ->check(CLI::IsMember({"on", "off"}))->capture_default_str();
-  app.add_option("--feature-k", o.kmeans_k, "Without --labels: k-means clusters of the kept candidates that "
-                 "compete with the target")
-      ->check(CLI::Range(1, 256))->capture_default_str();
-  app.add_option("--feature-prototype", f.prototype, "Target prototype: auto (the --labels object, else the "
-                 "--positive prompts' Gaussians, else the removed set) | removal (ignore --labels here)")
-      ->check(CLI::IsMember({"auto", "removal"}))->capture_default_str();
+  const std::string group = "Feature metrics";
+  AddOptionFlags(app, eval::FeatureEvalOptions::Table(), f.options, group);
+  AddOptionFlags(app, FeatureFieldOptions::Table(), f.options.field, group, {"feature_pca_rows"});
+  AddOptionFlags(app, metrics::FeatureSegOptions::Table(), f.options.segmentation, group);
   app.add_option("--prompt-embeddings", f.prompts, "FGS text embeddings T.npy: with --positive, the target "
-                 "prototype is the mean feature of the Gaussians FGS's rule selects");
-  app.add_option("--positive", f.positives, "Positive prompt rows")->delimiter(',');
-  app.add_option("--fgs-threshold", f.fgs_threshold, "FGS deletion threshold for --positive")->capture_default_str();
-  app.add_option("--decoder", f.decoder, "W.npy,b.npy: per-Gaussian f' = W f + b before everything else");
+                 "prototype is the mean feature of the Gaussians FGS's rule selects")->group(group);
+  app.add_option("--positive", f.positives, "Positive prompt rows")->delimiter(',')->group(group);
+  app.add_option("--fgs-threshold", f.fgs_threshold, "FGS deletion threshold for --positive")
+      ->capture_default_str()->group(group);
+  app.add_option("--decoder", f.decoder, "W.npy,b.npy: per-Gaussian f' = W f + b before everything else")
+      ->group(group);
 }
 
 eval::FeatureEvalOptions ToFeatureOptions(const FeatureFlags& f, Scene& scene) {
   eval::FeatureEvalOptions o = f.options;
-  using Mode = eval::FeatureEvalOptions::Mode;
-  o.mode = f.mode == "on" ? Mode::kOn : f.mode == "off" ? Mode::kOff : Mode::kAuto;
-  o.field.centre = f.centre == "on";
-  o.use_labels = f.prototype == "auto";
   if (!f.decoder.empty()) {
     const auto comma = f.decoder.find(',');
     if (comma == std::string::npos) throw Error("--decoder: expected W.npy,b.npy", ExitCode::kUsage);

@@ -166,14 +166,30 @@ metrics::Prototypes FromSet(const Scene& scene, const RowMatXf& channels, const 
 
 }  // namespace
 
+const OptionTable<FeatureEvalOptions>& FeatureEvalOptions::Table() {
+  using O = FeatureEvalOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("feature metrics")
+          .Choice("feature_metrics", &O::mode, {{"auto", Mode::kAuto}, {"on", Mode::kOn}, {"off", Mode::kOff}},
+                  "IoU_drop_feat, acc_seg_feat, residual_feat: auto = when the scene has semantic features, on = "
+                  "fail without them")
+          .Choice("feature_prototype", &O::use_labels, {{"auto", true}, {"removal", false}},
+                  "target prototype: auto = the --labels object, else the --positive prompts' Gaussians, else the "
+                  "removed set; removal = as without labels")
+          .Int("feature_k", &O::kmeans_k, R::Closed(1, 256),
+               "without labels: k-means clusters (of the set's neighbourhood, and of the views) that compete with "
+               "the target")
+          .Int("feature_hops", &O::candidate_hops, R::Closed(1, 16), "growth steps of the target's neighbourhood")
+          .Real("feature_merge_sim", &O::merge_similarity, R::Closed(-1, 1),
+                "without labels: clusters at least this close to the target prototype count as its kept part");
+  return table;
+}
+
 void FeatureEvalOptions::Check() const {
+  Table().Check(*this);
   field.Check();
   segmentation.Check();
-  if (kmeans_k < 1 || kmeans_k > 256) throw Error("feature metrics: k-means k must be in [1, 256]", ExitCode::kUsage);
-  if (candidate_hops < 1 || candidate_hops > 16)
-    throw Error("feature metrics: candidate hops must be in [1, 16]", ExitCode::kUsage);
-  if (!(merge_similarity >= -1 && merge_similarity <= 1))
-    throw Error("feature metrics: merge similarity must be in [-1, 1]", ExitCode::kUsage);
 }
 
 FeatureScorer::FeatureScorer(const Scene& scene, const FeaturePrototypeInput& in, const FeatureEvalOptions& o)
@@ -233,15 +249,11 @@ FeatureViewMetrics FeatureScorer::Score(const metrics::Mask& object, const metri
 }
 
 json FeatureScorer::ToJson() const {
-  if (!enabled_) return {{"skipped", skip_reason_}};
-  return {{"field", field_.ToJson()},
-          {"prototypes", prototype_info_},
-          {"min_similarity", options_.segmentation.min_similarity},
-          {"min_alpha", options_.segmentation.min_alpha},
-          {"kmeans_k", options_.kmeans_k},
-          {"candidate_hops", options_.candidate_hops},
-          {"merge_similarity", options_.merge_similarity},
-          {"seconds", seconds_}};
+  json options = FeatureEvalOptions::Table().ToJson(options_);
+  options.update(FeatureFieldOptions::Table().ToJson(options_.field));
+  options.update(metrics::FeatureSegOptions::Table().ToJson(options_.segmentation));
+  if (!enabled_) return {{"skipped", skip_reason_}, {"options", options}};
+  return {{"field", field_.ToJson()}, {"prototypes", prototype_info_}, {"options", options}, {"seconds", seconds_}};
 }
 
 }  // namespace al::eval

@@ -6,12 +6,18 @@
 
 namespace al::metrics {
 
-void FeatureSegOptions::Check() const {
-  if (!(min_similarity >= -1 && min_similarity <= 1))
-    throw Error("feature segmentation: minimum similarity must be in [-1, 1]", ExitCode::kUsage);
-  if (!(min_alpha >= 0 && min_alpha <= 1))
-    throw Error("feature segmentation: minimum alpha must be in [0, 1]", ExitCode::kUsage);
+const OptionTable<FeatureSegOptions>& FeatureSegOptions::Table() {
+  using O = FeatureSegOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("feature segmentation")
+          .Real("feature_min_sim", &O::min_similarity, R::Closed(-1, 1),
+                "a pixel is the target only at cosine >= this to its prototype (centred features)")
+          .Real("feature_min_alpha", &O::min_alpha, R::Closed(0, 1), "... and only where the render's alpha >= this");
+  return table;
 }
+
+void FeatureSegOptions::Check() const { Table().Check(*this); }
 
 Mask SegmentTarget(const FeatureImage& image, const Prototypes& prototypes, const FeatureSegOptions& options) {
   options.Check();

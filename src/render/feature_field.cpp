@@ -105,12 +105,19 @@ void FillChannels(const RowMatXf& f, const Eigen::VectorXd& mean, const Eigen::M
 
 }  // namespace
 
-void FeatureFieldOptions::Check() const {
-  if (max_channels < 1 || max_channels > kMaxFeatureChannels)
-    throw Error("feature channels must be in [1, " + std::to_string(kMaxFeatureChannels) + "], got " +
-                std::to_string(max_channels), ExitCode::kUsage);
-  if (pca_rows < 1) throw Error("PCA sample rows must be >= 1", ExitCode::kUsage);
+const OptionTable<FeatureFieldOptions>& FeatureFieldOptions::Table() {
+  using O = FeatureFieldOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("feature field")
+          .Flag("feature_centre", &O::centre, "subtract the scene's mean unit feature before cosines")
+          .Int("feature_channels", &O::max_channels, R::Closed(1, kMaxFeatureChannels),
+               "rendered feature channels; wider features are projected on their principal axes")
+          .Int("feature_pca_rows", &O::pca_rows, R::AtLeast(1), "rows the projection's covariance is estimated from");
+  return table;
 }
+
+void FeatureFieldOptions::Check() const { Table().Check(*this); }
 
 nlohmann::json FeatureField::ToJson() const {
   return {{"input_dim", input_dim},
@@ -133,7 +140,7 @@ FeatureField PrepareFeatureField(const RowMatXf& features, const FeatureFieldOpt
   if (!options.centre) mean.setZero();
   field.centred = options.centre;
   if (features.cols() > options.max_channels)
-    field.basis = PrincipalAxes(features, mean, options.max_channels, options.pca_rows, field.kept_variance)
+    field.basis = PrincipalAxes(features, mean, options.max_channels, std::size_t(options.pca_rows), field.kept_variance)
                       .cast<float>();
   FillChannels(features, mean, field.basis, threads, field.channels);
   field.mean = mean.cast<float>();

@@ -45,7 +45,10 @@ struct FeatureEvalOptions {
   bool use_labels = true;                // false: prototypes as without labels even when labels are given
   std::vector<bool> target_set;          // optional prototype source (N) when no labels are given
   std::string target_set_source;         // its name in the report, e.g. "prompts 0,2"
-  void Check() const;                    // al::Error (usage)
+  // feature_metrics, feature_k, feature_hops, feature_merge_sim, feature_prototype (not the nested
+  // field / segmentation options, which have their own tables).
+  static const OptionTable<FeatureEvalOptions>& Table();
+  void Check() const;                    // al::Error (usage), nested options included
 };
 
 // Where the target prototype comes from (labels win, then target_set, then the removal).

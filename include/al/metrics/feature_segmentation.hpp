@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "al/core/option_table.hpp"
 #include "al/metrics/mask.hpp"
 #include "al/metrics/semantic.hpp"
 #include "al/metrics/stats.hpp"
@@ -41,6 +42,7 @@ struct FeatureSegOptions {
   // ... and only where the render is mostly opaque: below this alpha the pixel shows mostly the
   // background colour, whatever its (normalised) feature says. Same 0.5 as the object-mask rule.
   double min_alpha = 0.5;
+  static const OptionTable<FeatureSegOptions>& Table();  // feature_min_sim, feature_min_alpha
   void Check() const;  // al::Error (usage) when a value is outside [-1, 1] / [0, 1]
 };
 

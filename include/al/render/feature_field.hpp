@@ -19,6 +19,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/render/render.hpp"
 
 namespace al {
@@ -26,8 +27,9 @@ namespace al {
 struct FeatureFieldOptions {
   bool centre = true;                       // subtract the scene mean of the unit features
   int max_channels = kMaxFeatureChannels;   // 1..kMaxFeatureChannels; wider features are projected (PCA)
-  std::size_t pca_rows = 65536;             // rows (evenly spaced) the covariance is estimated from
-  int num_threads = 0;                      // 0 = OpenMP default; results do not depend on it
+  int pca_rows = 65536;                     // rows (evenly spaced) the covariance is estimated from
+  int num_threads = 0;                      // 0 = OpenMP default; results do not depend on it (no table row)
+  static const OptionTable<FeatureFieldOptions>& Table();  // feature_centre, feature_channels, feature_pca_rows
   void Check() const;                       // al::Error (usage) on an out-of-range value
 };
 
