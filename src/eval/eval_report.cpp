@@ -71,6 +71,7 @@ void AddEvalParams(json& report, const std::vector<EvalColumn>& columns, const O
   params["alpha_hit"] = o.float_depth.alpha_hit;
   params["sam_min_iou"] = o.sim_sam.min_object_iou;
   params["export_renders"] = o.export_renders;
+  params["feature"] = o.feature.ToJson();
   params["write_images"] = o.write_images;
 }
 

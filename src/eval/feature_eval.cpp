@@ -248,10 +248,16 @@ FeatureViewMetrics FeatureScorer::Score(const metrics::Mask& object, const metri
   return m;
 }
 
+json FeatureEvalOptions::ToJson() const {
+  json j = Table().ToJson(*this);
+  j.update(FeatureFieldOptions::Table().ToJson(field));
+  j.update(metrics::FeatureSegOptions::Table().ToJson(segmentation));
+  if (!target_set_source.empty()) j["feature_target_set"] = target_set_source;
+  return j;
+}
+
 json FeatureScorer::ToJson() const {
-  json options = FeatureEvalOptions::Table().ToJson(options_);
-  options.update(FeatureFieldOptions::Table().ToJson(options_.field));
-  options.update(metrics::FeatureSegOptions::Table().ToJson(options_.segmentation));
+  const json options = options_.ToJson();
   if (!enabled_) return {{"skipped", skip_reason_}, {"options", options}};
   return {{"field", field_.ToJson()}, {"prototypes", prototype_info_}, {"options", options}, {"seconds", seconds_}};
 }

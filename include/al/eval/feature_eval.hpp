@@ -49,6 +49,7 @@ struct FeatureEvalOptions {
   // field / segmentation options, which have their own tables).
   static const OptionTable<FeatureEvalOptions>& Table();
   void Check() const;                    // al::Error (usage), nested options included
+  nlohmann::json ToJson() const;         // every table field, the nested ones included
 };
 
 // Where the target prototype comes from (labels win, then target_set, then the removal).
