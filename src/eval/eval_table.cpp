@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -26,6 +27,13 @@ std::string Num(double v) {
 }
 
 std::string Opt(const std::optional<double>& v) { return v ? Num(*v) : ""; }
+
+// "small_object;change_outside_object" (empty = trusted).
+std::string JoinFlags(const metrics::DepthTrust& trust) {
+  std::string out;
+  for (const auto& f : trust.Flags()) out += (out.empty() ? "" : ";") + f;
+  return out;
+}
 
 // CSV field: quoted when it holds a separator, quote or newline.
 std::string CsvField(const std::string& s) {
@@ -69,6 +77,12 @@ const Group kGroups[] = {
 };
 constexpr std::size_t kNumGroups = std::size(kGroups);
 
+// Footnote number of a cell (only the acc_Δdepth group has notes), 0 = none.
+int NoteNumber(const TableRow& row, const Group& g, std::size_t method) {
+  if (g.values != &TableRow::acc_delta_depth || method >= row.acc_delta_depth_note.size()) return 0;
+  return row.acc_delta_depth_note[method];
+}
+
 }  // namespace
 
 std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bool higher_is_better) {
@@ -91,6 +105,45 @@ std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bo
   return rank;
 }
 
+namespace {
+
+DepthTrustNote NoteOf(const std::string& method, const metrics::DepthSummary& s) {
+  DepthTrustNote n;
+  n.method = method;
+  n.flagged = s.flagged.size();
+  n.views = s.images;
+  std::map<std::string, std::vector<std::string>> by_flag;
+  for (const auto& [view, flags] : s.flagged)
+    for (const auto& f : flags) by_flag[f].push_back(view);
+  n.views_by_flag.assign(by_flag.begin(), by_flag.end());
+  if (s.acc_delta_depth_trusted.count) n.trusted_mean = s.acc_delta_depth_trusted.mean;
+  return n;
+}
+
+// "fgs: acc_Δdepth cannot be trusted in 3 of 12 views (small_object: v1, v2; ...); mean over the
+// 9 other views 0.52." with `esc` applied to names and `delta` for the metric's name.
+std::string NoteText(const DepthTrustNote& n, std::string (*esc)(const std::string&), const std::string& delta) {
+  std::ostringstream s;
+  s << esc(n.method) << ": " << delta << " cannot be trusted in " << n.flagged << " of " << n.views << " views (";
+  constexpr std::size_t kListed = 6;  // longer lists are cut: report.json has them all
+  for (std::size_t i = 0; i < n.views_by_flag.size(); ++i) {
+    const auto& [flag, views] = n.views_by_flag[i];
+    s << (i ? "; " : "") << esc(flag) << ":";
+    if (views.size() == n.views) {
+      s << " all";
+      continue;
+    }
+    for (std::size_t v = 0; v < std::min(views.size(), kListed); ++v) s << (v ? ", " : " ") << esc(views[v]);
+    if (views.size() > kListed) s << " and " << views.size() - kListed << " more";
+  }
+  s << "); ";
+  if (n.trusted_mean) s << "mean over the " << n.views - n.flagged << " other views " << Fixed(*n.trusted_mean) << ".";
+  else s << "no view can be trusted.";
+  return s.str();
+}
+
+}  // namespace
+
 Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result) {
   Table t;
   TableRow row;
@@ -107,6 +160,11 @@ Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>
     row.iou_drop_feat.push_back(feat ? std::optional<double>(s.feature->semantic.iou_drop) : std::nullopt);
     row.residual_feat.push_back(feat && s.feature->residual.count > 0 ? std::optional<double>(s.feature->residual.mean)
                                                                        : std::nullopt);
+    row.acc_delta_depth_note.push_back(0);
+    if (any && !s.depth8.flagged.empty()) {
+      t.notes.push_back(NoteOf(columns[c].label, s.depth8));
+      row.acc_delta_depth_note.back() = int(t.notes.size());
+    }
   }
   t.rows.push_back(std::move(row));
   return t;
@@ -131,7 +189,9 @@ std::string TableMarkdown(const Table& t) {
           continue;
         }
         const std::string x = Fixed(*v[i]);
-        s << ' ' << (rank[i] == 1 ? "**" + x + "**" : rank[i] == 2 ? "<u>" + x + "</u>" : x) << " |";
+        const int note = NoteNumber(r, g, i);
+        s << ' ' << (rank[i] == 1 ? "**" + x + "**" : rank[i] == 2 ? "<u>" + x + "</u>" : x)
+          << (note ? "<sup>" + std::to_string(note) + "</sup>" : "") << " |";
       }
     }
     s << "\n";
@@ -139,6 +199,9 @@ std::string TableMarkdown(const Table& t) {
   s << "\n**best** and <u>second best</u> per row and metric; – = not computed (see report.json `skipped`). "
        "IoU_drop and sim_SAM use external GroundedSAM/SAM segmentations; the _feat columns segment the "
        "scene's own rendered feature field (docs/eval.md).\n";
+  for (std::size_t i = 0; i < t.notes.size(); ++i)
+    s << "\n<sup>" << i + 1 << "</sup> " << NoteText(t.notes[i], MarkdownEscape, "acc_Δdepth")
+      << " Flags: docs/metrics.md; per view: report.json `depth.trust`.\n";
   return s.str();
 }
 
@@ -165,12 +228,17 @@ std::string TableLatex(const Table& t) {
           continue;
         }
         const std::string x = Fixed(*v[i]);
-        s << " & " << (rank[i] == 1 ? "\\textbf{" + x + "}" : rank[i] == 2 ? "\\underline{" + x + "}" : x);
+        const int note = NoteNumber(r, g, i);
+        s << " & " << (rank[i] == 1 ? "\\textbf{" + x + "}" : rank[i] == 2 ? "\\underline{" + x + "}" : x)
+          << (note ? "$^{" + std::to_string(note) + "}$" : "");
       }
     }
     s << " \\\\\n";
   }
   s << "  \\bottomrule\n\\end{tabular}\n";
+  for (std::size_t i = 0; i < t.notes.size(); ++i)
+    s << "\\par\\footnotesize $^{" << i + 1 << "}$ "
+      << NoteText(t.notes[i], LatexEscape, "acc$_{\\Delta\\text{depth}}$") << "\n";
   return s.str();
 }
 
@@ -179,7 +247,8 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
                                   "constant_mask", "acc_delta_depth_float", "iou_depth_float",
                                   "collateral_depth_float", "collateral_psnr", "iou_before", "iou_after",
                                   "iou_drop", "sim_sam", "sim_sam_n_a", "sim_sam_n_b", "tiles_rendered",
-                                  "iou_before_feat", "iou_after_feat", "iou_drop_feat", "residual_feat"};
+                                  "depth_flags", "depth_float_flags", "iou_before_feat", "iou_after_feat",
+                                  "iou_drop_feat", "residual_feat"};
   std::ostringstream s;
   s << "view,evaluated,object_pixels,width,height";
   for (const auto& c : columns)
@@ -201,7 +270,8 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
         << Opt(m.collateral_psnr) << ',' << (sem ? Num(m.semantic->iou_before) : "") << ','
         << (sem ? Num(m.semantic->iou_after) : "") << ',' << (sem ? Num(m.semantic->iou_drop) : "") << ','
         << (sam ? Num(m.sim_sam->sim_sam) : "") << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_gt) : "")
-        << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_sam) : "") << ',' << m.tiles_rendered;
+        << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_sam) : "") << ',' << m.tiles_rendered << ','
+        << CsvField(JoinFlags(m.trust8)) << ',' << CsvField(JoinFlags(m.trust_float));
       if (m.feature) {
         const metrics::FeatureRecord& f = m.feature->record;
         s << ',' << Num(f.semantic.iou_before) << ',' << Num(f.semantic.iou_after) << ',' << Num(f.semantic.iou_drop)

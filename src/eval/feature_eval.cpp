@@ -202,6 +202,9 @@ FeatureScorer::FeatureScorer(const Scene& scene, const FeaturePrototypeInput& in
     skip_reason_ = "turned off (--feature-metrics off)";
   } else if (scene.features.cols() == 0) {
     skip_reason_ = "the scene has no semantic features (semantic_*, obj_dc_*, ...)";
+  } else if (scene.features.rows() != static_cast<Eigen::Index>(scene.size())) {
+    throw Error("feature metrics: the scene's features have " + std::to_string(scene.features.rows()) +
+                " rows for " + std::to_string(scene.size()) + " Gaussians");
   } else if (!has_labels && !has_set && (in.removed == nullptr || std::none_of(in.removed->begin(), in.removed->end(),
                                                                                 [](bool b) { return b; }))) {
     skip_reason_ = "no target prototype: the removal is empty and neither --labels nor prompts were given";
