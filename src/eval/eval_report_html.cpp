@@ -93,8 +93,8 @@ std::vector<std::vector<std::string>> NamedRows(const json& columns, const Summa
   return rows;
 }
 
-// The feature table: the named rows, then acc_seg_feat per ξ (higher = better), then any other
-// number whose name holds "feat" (metrics added later show up without a change here).
+// The feature table: the named rows, then acc_seg_feat per ξ (higher = better). The feature
+// summary's other numbers (counts, acc before / after, ...) go with "All other metrics".
 std::vector<std::vector<std::string>> FeatureRows(const json& columns, const std::set<std::string>& keys,
                                                   std::set<std::string>& shown) {
   std::vector<std::vector<std::string>> rows = NamedRows(columns, kFeatureRows, shown);
@@ -103,11 +103,6 @@ std::vector<std::vector<std::string>> FeatureRows(const json& columns, const std
     if (key.rfind(acc_seg, 0) == 0 && !shown.count(key)) {
       shown.insert(key);
       rows.push_back(MetricRow(columns, key, "acc_seg_feat ↑ (ξ = " + key.substr(acc_seg.size()) + ")", +1, 3));
-    }
-  for (const std::string& key : keys)
-    if (key.find("feat") != std::string::npos && !shown.count(key)) {
-      shown.insert(key);
-      rows.push_back(MetricRow(columns, key, key, 0, 4));
     }
   return rows;
 }
