@@ -228,55 +228,63 @@ std::optional<std::uint64_t> FixedRecordBytes(const HeaderElement& e) {
   return bytes;
 }
 
-// Builds the column plan and sizes the scene's matrices.
-std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOptions& options,
-                                const std::string& path, Scene& scene) {
-  const auto& props = vertex.properties;
-  const std::size_t n = static_cast<std::size_t>(vertex.count);
-  std::map<std::string, std::size_t> by_name;
+// Property name -> index; list properties and repeated names are errors.
+using PropertyIndex = std::map<std::string, std::size_t>;
+PropertyIndex IndexProperties(const std::vector<HeaderProperty>& props, const std::string& path) {
+  PropertyIndex by_name;
   for (std::size_t p = 0; p < props.size(); ++p) {
     if (props[p].is_list) throw FileError(path, "list property '" + props[p].name + "' in element vertex");
-    if (!by_name.emplace(props[p].name, p).second)
-      throw FileError(path, "duplicate property '" + props[p].name + "'");
+    if (!by_name.emplace(props[p].name, p).second) throw FileError(path, "duplicate property '" + props[p].name + "'");
   }
-  auto find = [&](const std::string& name) -> std::optional<std::size_t> {
-    const auto it = by_name.find(name);
-    if (it == by_name.end()) return std::nullopt;
-    return it->second;
-  };
-  // All-or-nothing groups: returns true when every member is present.
-  auto group = [&](const std::vector<std::string>& names, const char* what) {
-    std::size_t found = 0;
-    for (const auto& nm : names) found += find(nm) ? 1 : 0;
-    if (found != 0 && found != names.size()) {
-      for (const auto& nm : names)
-        if (!find(nm)) throw FileError(path, std::string("incomplete ") + what + ": missing property '" + nm + "'");
-    }
-    return found == names.size();
-  };
-  if (!group({"x", "y", "z"}, "position") ) throw FileError(path, "missing required property 'x'/'y'/'z'");
-  scene.has_scales = group({"scale_0", "scale_1", "scale_2"}, "scales");
-  scene.has_rotations = group({"rot_0", "rot_1", "rot_2", "rot_3"}, "rotation");
-  scene.has_f_dc = group({"f_dc_0", "f_dc_1", "f_dc_2"}, "f_dc");
-  scene.has_opacity = find("opacity").has_value();
+  return by_name;
+}
+
+std::optional<std::size_t> FindProperty(const PropertyIndex& by_name, const std::string& name) {
+  const auto it = by_name.find(name);
+  if (it == by_name.end()) return std::nullopt;
+  return it->second;
+}
+
+// All-or-nothing groups: true when every member is present, an error when only some are.
+bool HasGroup(const PropertyIndex& by_name, const std::vector<std::string>& names, const char* what,
+              const std::string& path) {
+  std::size_t found = 0;
+  for (const auto& nm : names) found += FindProperty(by_name, nm) ? 1 : 0;
+  if (found != 0 && found != names.size())
+    for (const auto& nm : names)
+      if (!FindProperty(by_name, nm)) throw FileError(path, std::string("incomplete ") + what + ": missing property '" + nm + "'");
+  return found == names.size();
+}
+
+// The has_* flags of the scene, and the columns the options require.
+void DetectColumnGroups(const PropertyIndex& by_name, const PlyReadOptions& options, const std::string& path,
+                        Scene& scene) {
+  if (!HasGroup(by_name, {"x", "y", "z"}, "position", path)) throw FileError(path, "missing required property 'x'/'y'/'z'");
+  scene.has_scales = HasGroup(by_name, {"scale_0", "scale_1", "scale_2"}, "scales", path);
+  scene.has_rotations = HasGroup(by_name, {"rot_0", "rot_1", "rot_2", "rot_3"}, "rotation", path);
+  scene.has_f_dc = HasGroup(by_name, {"f_dc_0", "f_dc_1", "f_dc_2"}, "f_dc", path);
+  scene.has_opacity = FindProperty(by_name, "opacity").has_value();
   if (options.require_scales && !scene.has_scales) throw FileError(path, "missing required property 'scale_0'");
-  if (options.require_render_columns) {
-    if (!scene.has_opacity) throw FileError(path, "missing required property 'opacity'");
-    if (!scene.has_rotations) throw FileError(path, "missing required property 'rot_0'");
-    if (!scene.has_f_dc) throw FileError(path, "missing required property 'f_dc_0'");
-  }
+  if (!options.require_render_columns) return;
+  if (!scene.has_opacity) throw FileError(path, "missing required property 'opacity'");
+  if (!scene.has_rotations) throw FileError(path, "missing required property 'rot_0'");
+  if (!scene.has_f_dc) throw FileError(path, "missing required property 'f_dc_0'");
+}
 
-  const auto rest = IndexedColumns(props, "f_rest_", path);
-  switch (rest.size()) {
-    case 0: scene.sh_degree = 0; break;
-    case 9: scene.sh_degree = 1; break;
-    case 24: scene.sh_degree = 2; break;
-    case 45: scene.sh_degree = 3; break;
+int ShDegreeOf(std::size_t rest_columns, const std::string& path) {
+  switch (rest_columns) {
+    case 0: return 0;
+    case 9: return 1;
+    case 24: return 2;
+    case 45: return 3;
     default:
-      throw FileError(path, "f_rest_* count " + std::to_string(rest.size()) + " is not 0, 9, 24 or 45");
+      throw FileError(path, "f_rest_* count " + std::to_string(rest_columns) + " is not 0, 9, 24 or 45");
   }
-  const std::size_t coeffs = static_cast<std::size_t>((scene.sh_degree + 1) * (scene.sh_degree + 1));
+}
 
+// The feature columns the options ask for (auto: the first standard prefix present).
+std::vector<std::size_t> FeatureColumns(const std::vector<HeaderProperty>& props, const PlyReadOptions& options,
+                                        const std::string& path, Scene& scene) {
   std::vector<std::size_t> feature_cols;
   if (options.feature_prefix == "auto") {
     for (const char* prefix : {"semantic_", "obj_dc_", "f_semantic_", "feat_"}) {
@@ -292,19 +300,36 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
       throw FileError(path, "no feature properties with prefix '" + options.feature_prefix + "'");
     scene.feature_prefix = options.feature_prefix;
   }
+  return feature_cols;
+}
 
-  // Columns the file lacks keep neutral values (the has_* flags say which are real).
+// Columns the file lacks keep neutral values (the has_* flags say which are real).
+void AllocateColumns(std::size_t n, std::size_t coeffs, std::size_t features, Scene& scene) {
   scene.means.setZero(n, 3);
   scene.log_scales.setZero(n, 3);
   scene.rotations.setZero(n, 4);
   scene.rotations.col(0).setOnes();
   scene.opacity_logits.setZero(n);
   scene.sh.setZero(n, static_cast<Eigen::Index>(coeffs * 3));
-  if (!feature_cols.empty()) scene.features.setZero(n, static_cast<Eigen::Index>(feature_cols.size()));
+  if (features > 0) scene.features.setZero(n, static_cast<Eigen::Index>(features));
+}
+
+// Builds the column plan and sizes the scene's matrices.
+std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOptions& options,
+                                const std::string& path, Scene& scene) {
+  const auto& props = vertex.properties;
+  const PropertyIndex by_name = IndexProperties(props, path);
+  DetectColumnGroups(by_name, options, path, scene);
+  const auto rest = IndexedColumns(props, "f_rest_", path);
+  scene.sh_degree = ShDegreeOf(rest.size(), path);
+  const std::size_t coeffs = static_cast<std::size_t>((scene.sh_degree + 1) * (scene.sh_degree + 1));
+  const std::vector<std::size_t> feature_cols = FeatureColumns(props, options, path, scene);
+  AllocateColumns(static_cast<std::size_t>(vertex.count), coeffs, feature_cols.size(), scene);
 
   std::vector<Target> plan;
+  if (vertex.count == 0) return plan;  // empty matrices have no data pointer to offset from
   auto col_major = [&](const std::string& name, float* column) {
-    if (const auto p = find(name)) plan.push_back({*p, column, 1});
+    if (const auto p = FindProperty(by_name, name)) plan.push_back({*p, column, 1});
   };
   for (int c = 0; c < 3; ++c) {
     col_major(std::string(1, "xyz"[c]), scene.means.col(c).data());
@@ -314,7 +339,7 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   col_major("opacity", scene.opacity_logits.data());
   const std::size_t sh_cols = coeffs * 3;
   for (int c = 0; c < 3; ++c)
-    if (const auto p = find("f_dc_" + std::to_string(c))) plan.push_back({*p, scene.sh.data() + c, sh_cols});
+    if (const auto p = FindProperty(by_name, "f_dc_" + std::to_string(c))) plan.push_back({*p, scene.sh.data() + c, sh_cols});
   // f_rest_j is channel-major in the file: j = ch*(K-1) + (k-1)  ->  sh(i, k*3 + ch).
   for (std::size_t j = 0; j < rest.size(); ++j) {
     const std::size_t ch = j / (coeffs - 1), k = j % (coeffs - 1) + 1;
@@ -404,18 +429,110 @@ bool ParseAsciiValue(std::string_view tok, float& out) {
 
 namespace {
 
+std::size_t VertexElementIndex(const Header& h, const std::string& path) {
+  for (std::size_t e = 0; e < h.elements.size(); ++e)
+    if (h.elements[e].name == "vertex") return e;
+  throw FileError(path, "no 'element vertex' in header");
+}
+
+// Types and byte offsets of the vertex properties within a record; the source keeps them to write
+// the records back unchanged.
+struct RecordLayout {
+  std::vector<ScalarType> types;
+  std::vector<std::size_t> offsets;
+  std::size_t bytes = 0;
+};
+RecordLayout DescribeRecords(const HeaderElement& vertex, PlySource& src) {
+  RecordLayout layout;
+  for (const auto& p : vertex.properties) {
+    layout.types.push_back(p.type);
+    layout.offsets.push_back(layout.bytes);
+    src.properties.push_back({p.name, p.type_name, TypeSize(p.type), layout.bytes});
+    layout.bytes += static_cast<std::size_t>(TypeSize(p.type));
+  }
+  return layout;
+}
+
+// Bytes of the fixed-size elements before the vertex element (they are skipped).
+std::uint64_t BytesBeforeVertices(const Header& h, std::size_t vertex_index, std::size_t body, const std::string& path) {
+  std::uint64_t skip = 0;
+  for (std::size_t e = 0; e < vertex_index; ++e) {
+    const auto rb = FixedRecordBytes(h.elements[e]);
+    if (!rb) throw FileError(path, "cannot skip element '" + h.elements[e].name + "' (list properties) before element vertex");
+    if (*rb != 0 && h.elements[e].count > body / *rb) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
+    skip += *rb * h.elements[e].count;
+    if (skip > body) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
+  }
+  return skip;
+}
+
+void ReadBinaryVertices(const char* data, std::size_t size, const Header& h, std::size_t vertex_index,
+                        const RecordLayout& layout, const std::vector<Target>& plan, const std::string& path,
+                        bool file_backed, PlySource& src) {
+  const std::size_t n = static_cast<std::size_t>(h.elements[vertex_index].count), body = size - h.length;
+  src.record_bytes = layout.bytes;
+  const std::uint64_t skip = BytesBeforeVertices(h, vertex_index, body, path);
+  if (n > 0 && (body - skip) / layout.bytes < n)
+    throw FileError(path, "truncated data: " + std::to_string(n) + " vertices of " + std::to_string(layout.bytes) +
+                              " bytes need " + std::to_string(n * layout.bytes) + " bytes, file has " +
+                              std::to_string(body - skip) + " after the header");
+  const auto* records = reinterpret_cast<const unsigned char*>(data + h.length + skip);
+  const bool little = h.format == PlySource::Format::kBinaryLittleEndian;
+  if (file_backed) {
+    src.vertex_file = std::make_shared<const RecordFile>(path, h.length + skip, n * layout.bytes);
+    DecodeBinary(records, n, layout.bytes, layout.types, layout.offsets, plan, little, nullptr);
+    return;
+  }
+  auto raw = std::make_shared<std::string>(n * layout.bytes, '\0');
+  DecodeBinary(records, n, layout.bytes, layout.types, layout.offsets, plan, little,
+               reinterpret_cast<unsigned char*>(raw->data()));
+  src.vertex_bytes = std::move(raw);
+}
+
+void ReadAsciiVertices(const char* data, std::size_t size, const Header& h, std::size_t vertex_index,
+                       const std::vector<Target>& plan, const std::string& path, PlySource& src) {
+  const HeaderElement& vertex = h.elements[vertex_index];
+  const std::size_t n = static_cast<std::size_t>(vertex.count);
+  std::size_t pos = h.length;
+  std::string_view line;
+  for (std::size_t e = 0; e < vertex_index; ++e)
+    for (std::uint64_t r = 0; r < h.elements[e].count; ++r)
+      if (!NextLine(data, size, pos, line)) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
+  // Which plan entries read property p (a property may feed several columns).
+  std::vector<std::vector<const Target*>> by_property(vertex.properties.size());
+  for (const auto& t : plan) by_property[t.property].push_back(&t);
+  auto bytes = std::make_shared<std::string>();
+  src.ascii_line_offsets.reserve(n + 1);
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!NextLine(data, size, pos, line))
+      throw FileError(path, "truncated data: " + std::to_string(n) + " vertices declared, " + std::to_string(i) + " lines found");
+    const auto tok = Tokens(line);
+    if (tok.size() != vertex.properties.size())
+      throw FileError(path, "vertex " + std::to_string(i) + " has " + std::to_string(tok.size()) + " values, expected " +
+                                std::to_string(vertex.properties.size()));
+    for (std::size_t p = 0; p < tok.size(); ++p) {
+      float v = 0;
+      if (!ParseAsciiValue(tok[p], v))
+        throw FileError(path, "non-numeric value '" + std::string(tok[p].substr(0, 32)) + "' for property '" +
+                                  vertex.properties[p].name + "' of vertex " + std::to_string(i));
+      for (const Target* t : by_property[p]) t->base[i * t->stride] = v;
+    }
+    src.ascii_line_offsets.push_back(bytes->size());
+    bytes->append(line);
+    bytes->push_back('\n');
+  }
+  src.ascii_line_offsets.push_back(bytes->size());
+  src.vertex_bytes = std::move(bytes);
+}
+
 // file_backed: the bytes are the whole file at `path`; binary vertex records are then re-read from
 // the file by the writer instead of being copied (see PlySource::vertex_file).
 Scene ReadPlyImpl(const void* data_ptr, std::size_t size, const std::string& path,
                   const PlyReadOptions& options, bool file_backed) {
   const char* data = static_cast<const char*>(data_ptr);
   if (size == 0 || data == nullptr) throw FileError(path, "empty file (missing PLY magic)");
-  Header h = ParseHeader(data, size, path);
-
-  std::size_t vertex_index = h.elements.size();
-  for (std::size_t e = 0; e < h.elements.size(); ++e)
-    if (h.elements[e].name == "vertex") { vertex_index = e; break; }
-  if (vertex_index == h.elements.size()) throw FileError(path, "no 'element vertex' in header");
+  const Header h = ParseHeader(data, size, path);
+  const std::size_t vertex_index = VertexElementIndex(h, path);
   const HeaderElement& vertex = h.elements[vertex_index];
   const std::size_t body = size - h.length;
   // Every record takes at least one byte (binary: >= 1 property; ASCII: >= 1 char), so a count
@@ -428,83 +545,17 @@ Scene ReadPlyImpl(const void* data_ptr, std::size_t size, const std::string& pat
   scene.source_path = path;
   scene.source_format = "ply";
   const std::vector<Target> plan = PlanColumns(vertex, options, path, scene);
-  const std::size_t n = static_cast<std::size_t>(vertex.count);
-
   auto src = std::make_shared<PlySource>();
   src->path = path;
   src->format = h.format;
   src->header.assign(data, h.length);
   for (std::size_t e = 0; e < h.elements.size(); ++e)
     if (e != vertex_index) src->extra_elements.push_back("element " + h.elements[e].name + " " + std::to_string(h.elements[e].count));
-
-  std::vector<ScalarType> types;
-  std::vector<std::size_t> offsets;
-  std::size_t record_bytes = 0;
-  for (const auto& p : vertex.properties) {
-    types.push_back(p.type);
-    offsets.push_back(record_bytes);
-    src->properties.push_back({p.name, p.type_name, TypeSize(p.type), record_bytes});
-    record_bytes += static_cast<std::size_t>(TypeSize(p.type));
-  }
-
-  if (h.format != PlySource::Format::kAscii) {
-    src->record_bytes = record_bytes;
-    // Elements before the vertex element are skipped when their records have a fixed size.
-    std::uint64_t skip = 0;
-    for (std::size_t e = 0; e < vertex_index; ++e) {
-      const auto rb = FixedRecordBytes(h.elements[e]);
-      if (!rb) throw FileError(path, "cannot skip element '" + h.elements[e].name + "' (list properties) before element vertex");
-      if (*rb != 0 && h.elements[e].count > body / *rb) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
-      skip += *rb * h.elements[e].count;
-      if (skip > body) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
-    }
-    if (n > 0 && (body - skip) / record_bytes < n)
-      throw FileError(path, "truncated data: " + std::to_string(n) + " vertices of " + std::to_string(record_bytes) +
-                                " bytes need " + std::to_string(n * record_bytes) + " bytes, file has " +
-                                std::to_string(body - skip) + " after the header");
-    const auto* records = reinterpret_cast<const unsigned char*>(data + h.length + skip);
-    const bool little = h.format == PlySource::Format::kBinaryLittleEndian;
-    if (file_backed) {
-      src->vertex_file = std::make_shared<const RecordFile>(path, h.length + skip, n * record_bytes);
-      DecodeBinary(records, n, record_bytes, types, offsets, plan, little, nullptr);
-    } else {
-      auto raw = std::make_shared<std::string>(n * record_bytes, '\0');
-      DecodeBinary(records, n, record_bytes, types, offsets, plan, little,
-                   reinterpret_cast<unsigned char*>(raw->data()));
-      src->vertex_bytes = std::move(raw);
-    }
-  } else {
-    std::size_t pos = h.length;
-    std::string_view line;
-    for (std::size_t e = 0; e < vertex_index; ++e)
-      for (std::uint64_t r = 0; r < h.elements[e].count; ++r)
-        if (!NextLine(data, size, pos, line)) throw FileError(path, "truncated data in element '" + h.elements[e].name + "'");
-    // Which plan entries read property p (a property may feed several columns).
-    std::vector<std::vector<const Target*>> by_property(vertex.properties.size());
-    for (const auto& t : plan) by_property[t.property].push_back(&t);
-    auto bytes = std::make_shared<std::string>();
-    src->ascii_line_offsets.reserve(n + 1);
-    for (std::size_t i = 0; i < n; ++i) {
-      if (!NextLine(data, size, pos, line))
-        throw FileError(path, "truncated data: " + std::to_string(n) + " vertices declared, " + std::to_string(i) + " lines found");
-      const auto tok = Tokens(line);
-      if (tok.size() != vertex.properties.size())
-        throw FileError(path, "vertex " + std::to_string(i) + " has " + std::to_string(tok.size()) + " values, expected " +
-                                  std::to_string(vertex.properties.size()));
-      for (std::size_t p = 0; p < tok.size(); ++p) {
-        float v = 0;
-        if (!ParseAsciiValue(tok[p], v))
-          throw FileError(path, "non-numeric value '" + std::string(tok[p].substr(0, 32)) + "' for property '" +
-                                    vertex.properties[p].name + "' of vertex " + std::to_string(i));
-        for (const Target* t : by_property[p]) t->base[i * t->stride] = v;
-      }
-      src->ascii_line_offsets.push_back(bytes->size());
-      bytes->append(line);
-      bytes->push_back('\n');
-    }
-    src->ascii_line_offsets.push_back(bytes->size());
-    src->vertex_bytes = std::move(bytes);
-  }
+  const RecordLayout layout = DescribeRecords(vertex, *src);
+  if (h.format != PlySource::Format::kAscii)
+    ReadBinaryVertices(data, size, h, vertex_index, layout, plan, path, file_backed, *src);
+  else
+    ReadAsciiVertices(data, size, h, vertex_index, plan, path, *src);
   scene.ply = std::move(src);
   return scene;
 }

@@ -106,6 +106,174 @@ void CheckInputs(const Scene& scene, const Camera& camera, const std::vector<boo
                 std::to_string(n) + " Gaussians");
 }
 
+namespace {
+
+struct Quaternion {
+  float w, x, y, z;
+};
+
+// torch.nn.functional.normalize of the stored (w, x, y, z).
+Quaternion NormalizedRotation(const Scene& scene, Eigen::Index i) {
+  float qw = scene.rotations(i, 0), qx = scene.rotations(i, 1), qy = scene.rotations(i, 2), qz = scene.rotations(i, 3);
+  float qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+  if (!std::isfinite(qn)) {
+    // Finite components whose squares overflow (|q| > 1.8e19): scale down first. Only here, so
+    // every other quaternion takes exactly torch's arithmetic (parity).
+    const float big = std::max(std::max(std::abs(qw), std::abs(qx)), std::max(std::abs(qy), std::abs(qz)));
+    qw /= big; qx /= big; qy /= big; qz /= big;
+    qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+  }
+  const float qd = std::max(qn, 1e-12f);  // torch.nn.functional.normalize eps
+  return {qw / qd, qx / qd, qy / qd, qz / qd};
+}
+
+// 3D covariance Sigma = M^T M with M = S * R (glm column-major), as v[row][col].
+void Covariance3D(const Quaternion& q, const float s[3], float v3[3][3]) {
+  const float qw = q.w, qx = q.x, qy = q.y, qz = q.z;
+  // rg[c][r]: column c, row r of the glm rotation matrix.
+  const float rg[3][3] = {
+      {1.f - 2.f * (qy * qy + qz * qz), 2.f * (qx * qy - qw * qz), 2.f * (qx * qz + qw * qy)},
+      {2.f * (qx * qy + qw * qz), 1.f - 2.f * (qx * qx + qz * qz), 2.f * (qy * qz - qw * qx)},
+      {2.f * (qx * qz - qw * qy), 2.f * (qy * qz + qw * qx), 1.f - 2.f * (qx * qx + qy * qy)}};
+  float m[3][3];
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) m[c][r] = s[r] * rg[c][r];
+  float sig[3][3];
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) sig[c][r] = m[r][0] * m[c][0] + m[r][1] * m[c][1] + m[r][2] * m[c][2];
+  const float sym[3][3] = {{sig[0][0], sig[0][1], sig[0][2]}, {sig[0][1], sig[1][1], sig[1][2]}, {sig[0][2], sig[1][2], sig[2][2]}};
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) v3[r][c] = sym[r][c];
+}
+
+// EWA projection with the clamped Jacobian (the clamp enters J only), plus the 0.3 low-pass:
+// the 2D covariance (a, b, c) = (xx, xy, yy).
+struct Cov2D {
+  float a, b, c;
+};
+Cov2D ProjectCovariance(const float v3[3][3], const ViewParams& view, float tx, float ty, float tz) {
+  const float limx = 1.3f * view.tan_fovx, limy = 1.3f * view.tan_fovy;
+  const float* vm = view.view;
+  const float txc = std::min(limx, std::max(-limx, tx / tz)) * tz;
+  const float tyc = std::min(limy, std::max(-limy, ty / tz)) * tz;
+  const float fx = view.focal_x, fy = view.focal_y;
+  const float jg[2][3] = {{fx / tz, 0.0f, -(fx * txc) / (tz * tz)}, {0.0f, fy / tz, -(fy * tyc) / (tz * tz)}};
+  // wg[c][r] = W2C rotation R[c][r] (glm W built from the transposed view matrix).
+  // T = W * J: t2[c][r] = sum_k wg[k][r] * J[c][k] (columns c = 0, 1; column 2 is zero).
+  float t2[2][3];
+  for (int c = 0; c < 2; ++c)
+    for (int r = 0; r < 3; ++r) t2[c][r] = vm[0 * 4 + r] * jg[c][0] + vm[1 * 4 + r] * jg[c][1] + vm[2 * 4 + r] * jg[c][2];
+  // A = T^T * V^T: a[c][r] = sum_k T[r][k] * V[k][c]  (r in {0,1} needed).
+  float a2[3][2];
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 2; ++r) a2[c][r] = t2[r][0] * v3[0][c] + t2[r][1] * v3[1][c] + t2[r][2] * v3[2][c];
+  // cov = A * T: cov[c][r] = sum_k A[k][r] * T[c][k].
+  auto cov_at = [&](int c, int r) { return a2[0][r] * t2[c][0] + a2[1][r] * t2[c][1] + a2[2][r] * t2[c][2]; };
+  return {cov_at(0, 0) + 0.3f, cov_at(0, 1), cov_at(1, 1) + 0.3f};
+}
+
+// 2D mean through the float32 full projection matrix, then NDC -> pixel in double.
+void ProjectMean(const ViewParams& view, float px, float py, float pz, float& u, float& v) {
+  const float* pxr = view.proj_x;
+  const float* pyr = view.proj_y;
+  const float* pwr = view.proj_w;
+  const float hx = pxr[0] * px + pxr[1] * py + pxr[2] * pz + pxr[3];
+  const float hy = pyr[0] * px + pyr[1] * py + pyr[2] * pz + pyr[3];
+  const float hw = pwr[0] * px + pwr[1] * py + pwr[2] * pz + pwr[3];
+  const float pw = 1.0f / (hw + 0.0000001f);
+  const float ndc_x = hx * pw, ndc_y = hy * pw;
+  u = static_cast<float>(((ndc_x + 1.0) * view.width - 1.0) * 0.5);
+  v = static_cast<float>(((ndc_y + 1.0) * view.height - 1.0) * 0.5);
+}
+
+// Colour of degree-`deg` SH coefficients `sh` in the unit direction (x, y, z), clamped at 0.
+void ShColour(const float* sh, int deg, float x, float y, float z, float rgb[3]) {
+  const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, yz = y * z, xz = x * z;
+  for (int ch = 0; ch < 3; ++ch) {
+    auto c = [&](int k) { return sh[k * 3 + ch]; };
+    float col = kShC0 * c(0);
+    if (deg > 0) {
+      col = col - kShC1 * y * c(1) + kShC1 * z * c(2) - kShC1 * x * c(3);
+      if (deg > 1) {
+        col = col + kShC2[0] * xy * c(4) + kShC2[1] * yz * c(5) + kShC2[2] * (2.0f * zz - xx - yy) * c(6) +
+              kShC2[3] * xz * c(7) + kShC2[4] * (xx - yy) * c(8);
+        if (deg > 2) {
+          col = col + kShC3[0] * y * (3.0f * xx - yy) * c(9) + kShC3[1] * xy * z * c(10) +
+                kShC3[2] * y * (4.0f * zz - xx - yy) * c(11) +
+                kShC3[3] * z * (2.0f * zz - 3.0f * xx - 3.0f * yy) * c(12) +
+                kShC3[4] * x * (4.0f * zz - xx - yy) * c(13) + kShC3[5] * z * (xx - yy) * c(14) +
+                kShC3[6] * x * (xx - 3.0f * yy) * c(15);
+        }
+      }
+    }
+    col += 0.5f;
+    rgb[ch] = std::max(col, 0.0f);
+  }
+}
+
+// One Gaussian (RASTERIZER.md §1-3): its status, and on kVisible its row of `out`.
+std::uint8_t PreprocessOne(const Scene& scene, const ViewParams& view, int deg, float mod, Eigen::Index i,
+                           Projected& out) {
+  if (!RowFinite(scene, i)) return kNonFinite;
+  const float* vm = view.view;
+  const float px = scene.means(i, 0), py = scene.means(i, 1), pz = scene.means(i, 2);
+  // View-space point (transformPoint4x3) and near cull.
+  const float tx = vm[0] * px + vm[1] * py + vm[2] * pz + vm[3];
+  const float ty = vm[4] * px + vm[5] * py + vm[6] * pz + vm[7];
+  const float tz = vm[8] * px + vm[9] * py + vm[10] * pz + vm[11];
+  if (!(tz > 0.2f)) return kCulled;
+  const float s[3] = {mod * std::exp(scene.log_scales(i, 0)), mod * std::exp(scene.log_scales(i, 1)),
+                      mod * std::exp(scene.log_scales(i, 2))};
+  float v3[3][3];
+  Covariance3D(NormalizedRotation(scene, i), s, v3);
+  const Cov2D cov = ProjectCovariance(v3, view, tx, ty, tz);
+  const float det = cov.a * cov.c - cov.b * cov.b;
+  if (det == 0.0f) return kCulled;
+  const float det_inv = 1.0f / det;
+  const float conic_a = cov.c * det_inv, conic_b = -cov.b * det_inv, conic_c = cov.a * det_inv;
+  const float mid = 0.5f * (cov.a + cov.c);
+  const float l1 = mid + std::sqrt(std::max(0.1f, mid * mid - det));
+  const float l2 = mid - std::sqrt(std::max(0.1f, mid * mid - det));
+  const float radius_f = std::ceil(3.0f * std::sqrt(std::max(l1, l2)));
+  float u, v;
+  ProjectMean(view, px, py, pz, u, v);
+  // Finite parameters whose projection overflowed (e.g. log-scale 60): INRIA would write garbage;
+  // we never render them.
+  if (!std::isfinite(conic_a) || !std::isfinite(conic_b) || !std::isfinite(conic_c) || !std::isfinite(radius_f) ||
+      !std::isfinite(u) || !std::isfinite(v))
+    return kDegenerate;
+  const int radius = SaturatingInt(radius_f);
+  const float rf = static_cast<float>(radius);
+  const int x0 = TruncClamp((u - rf) / kTile, view.grid_x), y0 = TruncClamp((v - rf) / kTile, view.grid_y);
+  const int x1 = TruncClamp((u + rf + (kTile - 1)) / kTile, view.grid_x);
+  const int y1 = TruncClamp((v + rf + (kTile - 1)) / kTile, view.grid_y);
+  if (static_cast<std::int64_t>(x1 - x0) * (y1 - y0) == 0) return kCulled;
+  // Colour from SH in direction (p - campos) / |p - campos|.
+  float dx = px - view.campos[0], dy = py - view.campos[1], dz = pz - view.campos[2];
+  const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
+  float rgb[3];
+  ShColour(&scene.sh(i, 0), deg, dx / len, dy / len, dz / len, rgb);
+  if (!std::isfinite(rgb[0]) || !std::isfinite(rgb[1]) || !std::isfinite(rgb[2])) return kDegenerate;
+  out.u[i] = u;
+  out.v[i] = v;
+  out.conic_a[i] = conic_a;
+  out.conic_b[i] = conic_b;
+  out.conic_c[i] = conic_c;
+  out.opacity[i] = 1.0f / (1.0f + std::exp(-scene.opacity_logits[i]));
+  out.red[i] = rgb[0];
+  out.green[i] = rgb[1];
+  out.blue[i] = rgb[2];
+  out.tz[i] = tz;
+  out.radius[i] = radius;
+  out.xmin[i] = x0;
+  out.ymin[i] = y0;
+  out.xmax[i] = x1;
+  out.ymax[i] = y1;
+  return kVisible;
+}
+
+}  // namespace
+
 void Preprocess(const Scene& scene, const ViewParams& view, const RenderOptions& options,
                 const std::vector<bool>& exclude, Projected& out) {
   const std::size_t n = scene.size();
@@ -115,163 +283,18 @@ void Preprocess(const Scene& scene, const ViewParams& view, const RenderOptions&
   for (auto* v : {&out.radius, &out.xmin, &out.ymin, &out.xmax, &out.ymax}) v->assign(n, 0);
   out.status.assign(n, kCulled);
   const int deg = std::max(0, std::min(scene.sh_degree, options.max_sh_degree));
-  const float mod = options.scale_modifier;
-  const float limx = 1.3f * view.tan_fovx, limy = 1.3f * view.tan_fovy;
-  const float* vm = view.view;
   const bool has_exclude = !exclude.empty();
   std::size_t visible = 0, nonfinite = 0, degenerate = 0;
-
 #pragma omp parallel for schedule(static) num_threads(ThreadCount(options)) \
     reduction(+ : visible, nonfinite, degenerate)
   for (std::int64_t ii = 0; ii < static_cast<std::int64_t>(n); ++ii) {
     const Eigen::Index i = ii;
-    if (has_exclude && exclude[i]) {
-      out.status[i] = kExcluded;
-      continue;
-    }
-    if (!RowFinite(scene, i)) {
-      out.status[i] = kNonFinite;
-      ++nonfinite;
-      continue;
-    }
-    const float px = scene.means(i, 0), py = scene.means(i, 1), pz = scene.means(i, 2);
-    // View-space point (transformPoint4x3) and near cull.
-    const float tx = vm[0] * px + vm[1] * py + vm[2] * pz + vm[3];
-    const float ty = vm[4] * px + vm[5] * py + vm[6] * pz + vm[7];
-    const float tz = vm[8] * px + vm[9] * py + vm[10] * pz + vm[11];
-    if (!(tz > 0.2f)) continue;
-
-    // 3D covariance: M = S * R (glm column-major), Sigma = M^T M.
-    float qw = scene.rotations(i, 0), qx = scene.rotations(i, 1), qy = scene.rotations(i, 2),
-          qz = scene.rotations(i, 3);
-    const float qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
-    const float qd = std::max(qn, 1e-12f);  // torch.nn.functional.normalize eps
-    qw /= qd; qx /= qd; qy /= qd; qz /= qd;
-    const float s[3] = {mod * std::exp(scene.log_scales(i, 0)), mod * std::exp(scene.log_scales(i, 1)),
-                        mod * std::exp(scene.log_scales(i, 2))};
-    // rg[c][r]: column c, row r of the glm rotation matrix.
-    const float rg[3][3] = {
-        {1.f - 2.f * (qy * qy + qz * qz), 2.f * (qx * qy - qw * qz), 2.f * (qx * qz + qw * qy)},
-        {2.f * (qx * qy + qw * qz), 1.f - 2.f * (qx * qx + qz * qz), 2.f * (qy * qz - qw * qx)},
-        {2.f * (qx * qz - qw * qy), 2.f * (qy * qz + qw * qx), 1.f - 2.f * (qx * qx + qy * qy)}};
-    float m[3][3];
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) m[c][r] = s[r] * rg[c][r];
-    float sig[3][3];
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) sig[c][r] = m[r][0] * m[c][0] + m[r][1] * m[c][1] + m[r][2] * m[c][2];
-    const float v3[3][3] = {{sig[0][0], sig[0][1], sig[0][2]},
-                            {sig[0][1], sig[1][1], sig[1][2]},
-                            {sig[0][2], sig[1][2], sig[2][2]}};
-
-    // EWA projection with the clamped Jacobian (clamp enters J only).
-    const float txc = std::min(limx, std::max(-limx, tx / tz)) * tz;
-    const float tyc = std::min(limy, std::max(-limy, ty / tz)) * tz;
-    const float fx = view.focal_x, fy = view.focal_y;
-    const float jg[2][3] = {{fx / tz, 0.0f, -(fx * txc) / (tz * tz)},
-                            {0.0f, fy / tz, -(fy * tyc) / (tz * tz)}};
-    // wg[c][r] = W2C rotation R[c][r] (glm W built from the transposed view matrix).
-    // T = W * J: t2[c][r] = sum_k wg[k][r] * J[c][k] (columns c = 0, 1; column 2 is zero).
-    float t2[2][3];
-    for (int c = 0; c < 2; ++c)
-      for (int r = 0; r < 3; ++r)
-        t2[c][r] = vm[0 * 4 + r] * jg[c][0] + vm[1 * 4 + r] * jg[c][1] + vm[2 * 4 + r] * jg[c][2];
-    // A = T^T * V^T: a[c][r] = sum_k T[r][k] * V[k][c]  (r in {0,1} needed).
-    float a2[3][2];
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 2; ++r) a2[c][r] = t2[r][0] * v3[0][c] + t2[r][1] * v3[1][c] + t2[r][2] * v3[2][c];
-    // cov = A * T: cov[c][r] = sum_k A[k][r] * T[c][k].
-    auto cov_at = [&](int c, int r) { return a2[0][r] * t2[c][0] + a2[1][r] * t2[c][1] + a2[2][r] * t2[c][2]; };
-    const float ca = cov_at(0, 0) + 0.3f, cb = cov_at(0, 1), cc = cov_at(1, 1) + 0.3f;
-
-    const float det = ca * cc - cb * cb;
-    if (det == 0.0f) continue;
-    const float det_inv = 1.0f / det;
-    const float conic_a = cc * det_inv, conic_b = -cb * det_inv, conic_c = ca * det_inv;
-    const float mid = 0.5f * (ca + cc);
-    const float l1 = mid + std::sqrt(std::max(0.1f, mid * mid - det));
-    const float l2 = mid - std::sqrt(std::max(0.1f, mid * mid - det));
-    const float radius_f = std::ceil(3.0f * std::sqrt(std::max(l1, l2)));
-
-    // 2D mean through the float32 full projection matrix, then NDC -> pixel in double.
-    const float* pxr = view.proj_x;
-    const float* pyr = view.proj_y;
-    const float* pwr = view.proj_w;
-    const float hx = pxr[0] * px + pxr[1] * py + pxr[2] * pz + pxr[3];
-    const float hy = pyr[0] * px + pyr[1] * py + pyr[2] * pz + pyr[3];
-    const float hw = pwr[0] * px + pwr[1] * py + pwr[2] * pz + pwr[3];
-    const float pw = 1.0f / (hw + 0.0000001f);
-    const float ndc_x = hx * pw, ndc_y = hy * pw;
-    const float u = static_cast<float>(((ndc_x + 1.0) * view.width - 1.0) * 0.5);
-    const float v = static_cast<float>(((ndc_y + 1.0) * view.height - 1.0) * 0.5);
-
-    if (!std::isfinite(conic_a) || !std::isfinite(conic_b) || !std::isfinite(conic_c) ||
-        !std::isfinite(radius_f) || !std::isfinite(u) || !std::isfinite(v)) {
-      // Finite parameters whose projection overflowed (e.g. log-scale 60): INRIA would write
-      // garbage; we never render them.
-      out.status[i] = kDegenerate;
-      ++degenerate;
-      continue;
-    }
-    const int radius = SaturatingInt(radius_f);
-    const float rf = static_cast<float>(radius);
-    const int x0 = TruncClamp((u - rf) / kTile, view.grid_x);
-    const int y0 = TruncClamp((v - rf) / kTile, view.grid_y);
-    const int x1 = TruncClamp((u + rf + (kTile - 1)) / kTile, view.grid_x);
-    const int y1 = TruncClamp((v + rf + (kTile - 1)) / kTile, view.grid_y);
-    if (static_cast<std::int64_t>(x1 - x0) * (y1 - y0) == 0) continue;
-
-    // Colour from SH in direction (p - campos) / |p - campos|.
-    float dx = px - view.campos[0], dy = py - view.campos[1], dz = pz - view.campos[2];
-    const float len = std::sqrt(dx * dx + dy * dy + dz * dz);
-    dx = dx / len; dy = dy / len; dz = dz / len;
-    float rgb[3];
-    const float* sh = &scene.sh(i, 0);
-    const float x = dx, y = dy, z = dz;
-    const float xx = x * x, yy = y * y, zz = z * z, xy = x * y, yz = y * z, xz = x * z;
-    for (int ch = 0; ch < 3; ++ch) {
-      auto c = [&](int k) { return sh[k * 3 + ch]; };
-      float col = kShC0 * c(0);
-      if (deg > 0) {
-        col = col - kShC1 * y * c(1) + kShC1 * z * c(2) - kShC1 * x * c(3);
-        if (deg > 1) {
-          col = col + kShC2[0] * xy * c(4) + kShC2[1] * yz * c(5) + kShC2[2] * (2.0f * zz - xx - yy) * c(6) +
-                kShC2[3] * xz * c(7) + kShC2[4] * (xx - yy) * c(8);
-          if (deg > 2) {
-            col = col + kShC3[0] * y * (3.0f * xx - yy) * c(9) + kShC3[1] * xy * z * c(10) +
-                  kShC3[2] * y * (4.0f * zz - xx - yy) * c(11) +
-                  kShC3[3] * z * (2.0f * zz - 3.0f * xx - 3.0f * yy) * c(12) +
-                  kShC3[4] * x * (4.0f * zz - xx - yy) * c(13) + kShC3[5] * z * (xx - yy) * c(14) +
-                  kShC3[6] * x * (xx - 3.0f * yy) * c(15);
-          }
-        }
-      }
-      col += 0.5f;
-      rgb[ch] = std::max(col, 0.0f);
-    }
-    if (!std::isfinite(rgb[0]) || !std::isfinite(rgb[1]) || !std::isfinite(rgb[2])) {
-      out.status[i] = kDegenerate;
-      ++degenerate;
-      continue;
-    }
-
-    out.u[i] = u;
-    out.v[i] = v;
-    out.conic_a[i] = conic_a;
-    out.conic_b[i] = conic_b;
-    out.conic_c[i] = conic_c;
-    out.opacity[i] = 1.0f / (1.0f + std::exp(-scene.opacity_logits[i]));
-    out.red[i] = rgb[0];
-    out.green[i] = rgb[1];
-    out.blue[i] = rgb[2];
-    out.tz[i] = tz;
-    out.radius[i] = radius;
-    out.xmin[i] = x0;
-    out.ymin[i] = y0;
-    out.xmax[i] = x1;
-    out.ymax[i] = y1;
-    out.status[i] = kVisible;
-    ++visible;
+    const std::uint8_t status = has_exclude && exclude[i] ? std::uint8_t{kExcluded}
+                                                          : PreprocessOne(scene, view, deg, options.scale_modifier, i, out);
+    out.status[i] = status;
+    visible += status == kVisible;
+    nonfinite += status == kNonFinite;
+    degenerate += status == kDegenerate;
   }
   out.visible = visible;
   out.nonfinite = nonfinite;
