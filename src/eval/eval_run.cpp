@@ -99,243 +99,286 @@ void ScoreDepth(const metrics::DepthRender& before, const metrics::DepthRender& 
   m.holes_after_float = chf.holes_after;
 }
 
-}  // namespace
+// What the run decides once and every view reads: which optional metrics run, the Gaussians each
+// refinement added or restored, the object's Gaussians, the segment lists, the output folders.
+struct EvalContext {
+  EvalContext(const Scene& s, const std::vector<EvalColumn>& c, const ObjectSource& ob, const EvalOptions& op,
+              const std::vector<Camera>& cameras)
+      : scene(s), columns(c), object(ob), o(op),
+        features(s, {&ob.labels, ob.object_id, &c[0].removed, &cameras}, op.feature) {}
+  const Scene& scene;
+  const std::vector<EvalColumn>& columns;
+  const ObjectSource& object;
+  const EvalOptions& o;
+  FeatureScorer features;
+  RenderOptions render;
+  fs::path out, images;
+  std::vector<bool> run_semantic, run_sam, subset;
+  std::vector<std::vector<bool>> added, restored;
+  std::unique_ptr<SamLists> sam_before;
+  std::vector<std::unique_ptr<SamLists>> sam_cols;
+  std::vector<std::size_t> sam_missing;
+  std::size_t png_writes = 0;
+  json view_images = json::array();  // report.html's pictures per evaluated view
+};
 
-EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
-                   const ObjectSource& object, const EvalOptions& o, const json* report_in) {
-  Timer total;
-  Validate(scene, cameras, columns, object, o);
-  const std::size_t n = scene.size(), nc = columns.size();
-  EvalResult r;
-
-  // Which optional metrics can run, and why not (SPEC §6: the report says what was skipped).
-  std::vector<bool> run_semantic(nc), run_sam(nc);
+// Which optional metrics can run, and why not (SPEC §6: the report says what was skipped).
+void PlanOptionalMetrics(EvalContext& ctx, EvalResult& r) {
+  const EvalOptions& o = ctx.o;
+  const std::size_t nc = ctx.columns.size();
+  ctx.run_semantic.assign(nc, false);
+  ctx.run_sam.assign(nc, false);
   for (std::size_t c = 0; c < nc; ++c) {
-    const std::string& col = columns[c].name;
-    run_semantic[c] = !o.seg_before_dir.empty() && !columns[c].seg_dir.empty();
-    run_sam[c] = !o.sam_before_dir.empty() && !columns[c].sam_dir.empty();
-    if (!run_semantic[c])
+    const std::string& col = ctx.columns[c].name;
+    ctx.run_semantic[c] = !o.seg_before_dir.empty() && !ctx.columns[c].seg_dir.empty();
+    ctx.run_sam[c] = !o.sam_before_dir.empty() && !ctx.columns[c].sam_dir.empty();
+    if (!ctx.run_semantic[c])
       r.skipped.push_back({"iou_drop", col,
                            o.seg_before_dir.empty()
                                ? "no --seg-before: GroundedSAM masks of the before renders (write the renders with "
                                  "--export-renders, segment them, pass the mask folders back)"
                                : "no detector masks of this column's renders (--seg-after / --seg-refined)"});
-    if (!run_sam[c])
+    if (!ctx.run_sam[c])
       r.skipped.push_back({"sim_sam", col,
                            o.sam_before_dir.empty()
                                ? "no --sam-before: SAM segment lists of the before renders (see --export-renders)"
                                : "no SAM segment lists of this column's renders (--sam-after / --sam-refined)"});
   }
+  if (!ctx.features.enabled())
+    for (const auto& c : ctx.columns) r.skipped.push_back({"iou_drop_feat", c.name, ctx.features.skip_reason()});
+}
 
-  // Feature metrics: channels and prototypes once per scene; the renders composite the channels in
-  // the RGB pass (al/eval/feature_eval.hpp).
-  Timer feature_timer;
-  const FeatureScorer features(scene, {&object.labels, object.object_id, &columns[0].removed, &cameras}, o.feature);
-  if (!features.enabled())
-    for (const auto& c : columns) r.skipped.push_back({"iou_drop_feat", c.name, features.skip_reason()});
-  RenderOptions render = o.render;
-  render.features = features.channels();
-  r.seconds_features = feature_timer.Seconds();
+void MakeOutputFolders(const EvalContext& ctx) {
+  if (ctx.o.write_images) EnsureDirectory(ctx.images);
+  if (ctx.o.export_renders) {
+    EnsureDirectory(ctx.out / "renders" / "before");
+    for (const auto& c : ctx.columns) EnsureDirectory(ctx.out / "renders" / c.name);
+  }
+  if (!ctx.o.write_depth_pngs) return;
+  EnsureDirectory(ctx.out / "masks");
+  for (const auto& c : ctx.columns) {
+    EnsureDirectory(ctx.out / "depth" / c.name / "before");
+    EnsureDirectory(ctx.out / "depth" / c.name / "after");
+  }
+}
 
-  StagedOutput staging(o.out_dir);
-  const fs::path out = staging.dir();
-  const fs::path images = out / "images";
-  if (o.write_images) EnsureDirectory(images);
-  if (o.export_renders) {
-    EnsureDirectory(out / "renders" / "before");
-    for (const auto& c : columns) EnsureDirectory(out / "renders" / c.name);
-  }
-  if (o.write_depth_pngs) {
-    EnsureDirectory(out / "masks");
-    for (const auto& c : columns) {
-      EnsureDirectory(out / "depth" / c.name / "before");
-      EnsureDirectory(out / "depth" / c.name / "after");
-    }
-  }
-  // Gaussians each refinement added to the removal method's set (column 0), for the pink overlay.
-  // Restored: in the method's set, returned to the scene by the refinement (cyan in the overlay).
-  std::vector<std::vector<bool>> added(nc), restored(nc);
+// Added: in a refinement's set but not the method's (column 0), pink in the overlay. Restored: in
+// the method's set, returned to the scene by the refinement (cyan). Subset: the object's Gaussians.
+void MarkGaussians(EvalContext& ctx) {
+  const std::size_t n = ctx.scene.size(), nc = ctx.columns.size();
+  ctx.added.assign(nc, {});
+  ctx.restored.assign(nc, {});
   for (std::size_t c = 1; c < nc; ++c) {
-    added[c].resize(n);
-    restored[c].resize(n);
+    ctx.added[c].resize(n);
+    ctx.restored[c].resize(n);
     for (std::size_t i = 0; i < n; ++i) {
-      added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
-      restored[c][i] = columns[0].removed[i] && !columns[c].removed[i];
+      ctx.added[c][i] = ctx.columns[c].removed[i] && !ctx.columns[0].removed[i];
+      ctx.restored[c][i] = ctx.columns[0].removed[i] && !ctx.columns[c].removed[i];
     }
   }
-  json view_images = json::array();  // report.html's pictures per evaluated view
-  std::vector<bool> subset;
-  if (object.masks_dir.empty()) {
-    subset.resize(n);
-    for (std::size_t i = 0; i < n; ++i) subset[i] = object.labels[i] == object.object_id;
-  }
-  std::unique_ptr<SamLists> sam_before;
-  std::vector<std::unique_ptr<SamLists>> sam_cols(nc);
-  if (!o.sam_before_dir.empty()) sam_before = std::make_unique<SamLists>(o.sam_before_dir);
+  if (!ctx.object.masks_dir.empty()) return;
+  ctx.subset.resize(n);
+  for (std::size_t i = 0; i < n; ++i) ctx.subset[i] = ctx.object.labels[i] == ctx.object.object_id;
+}
+
+void OpenSamLists(EvalContext& ctx) {
+  const std::size_t nc = ctx.columns.size();
+  if (!ctx.o.sam_before_dir.empty()) ctx.sam_before = std::make_unique<SamLists>(ctx.o.sam_before_dir);
+  ctx.sam_cols.resize(nc);
   for (std::size_t c = 0; c < nc; ++c)
-    if (run_sam[c]) sam_cols[c] = std::make_unique<SamLists>(columns[c].sam_dir);
-  std::vector<std::size_t> sam_missing(nc, 0);
-  std::size_t png_writes = 0;
+    if (ctx.run_sam[c]) ctx.sam_cols[c] = std::make_unique<SamLists>(ctx.columns[c].sam_dir);
+  ctx.sam_missing.assign(nc, 0);
+}
 
-  Progress progress("eval", cameras.size(), o.progress);
-  for (std::size_t vi = 0; vi < cameras.size(); ++vi) {
-    const Camera& cam = cameras[vi];
-    ViewRecord view;
-    view.name = cam.name;
-    view.width = cam.width;
-    view.height = cam.height;
-    const std::string stem = SafeName(cam.name);
-
-    // 1. Object mask (> 0) and its 8-bit grey form (semantic/sim_SAM binarise it themselves).
-    Timer t;
-    metrics::Gray8 object_gray;
-    std::unique_ptr<IncrementalRenderer> renderer;
-    if (!object.masks_dir.empty()) {
-      const fs::path path = fs::path(object.masks_dir) / (cam.name + ".png");
-      if (!IsFile(path)) {
-        view.object_mask_missing = true;
-        ++r.missing_object_masks;
-      } else {
-        object_gray = metrics::LoadGray8Png(path.string());
-      }
-      r.seconds_io += t.Seconds();
-    } else {
-      // The object's share of the "before" composite (sum of alpha*T over its Gaussians) comes out
-      // of the "before" render itself: one compositing pass instead of a second one just for the
-      // mask. It agrees with fixtures::SubsetWeight (the synth ground truth) up to float rounding
-      // of the projection (tests/fixtures/subset_weight_render_test.cpp). Timed as render.
-      RenderOptions with_share = render;
-      with_share.weight_subset = &subset;
-      renderer = std::make_unique<IncrementalRenderer>(scene, cam, with_share);
-      r.seconds_render += t.Seconds();
-      t.Reset();
-      const std::vector<float>& share = renderer->before().subset_weight;
-      object_gray = {cam.width, cam.height, std::vector<std::uint8_t>(share.size())};
-      for (std::size_t p = 0; p < share.size(); ++p) object_gray.pixels[p] = share[p] >= 0.5f ? 255 : 0;
-      r.seconds_object_masks += t.Seconds();
-    }
-    const metrics::Mask object_mask = metrics::Binarize(object_gray, 0);
-    view.object_pixels = object_mask.Count();
-    if (view.object_pixels == 0) {  // SPEC §6: views without the object are excluded and counted
-      if (!view.object_mask_missing) ++r.skipped_empty_object;
-      r.views.push_back(std::move(view));
-      progress.Step(vi + 1);
-      continue;
-    }
-    view.evaluated = true;
-    ++r.evaluated;
-
-    // 2. Renders: "before" in full (already done with --labels), each column incrementally from
-    // its cache.
-    t.Reset();
-    if (!renderer) renderer = std::make_unique<IncrementalRenderer>(scene, cam, render);
-    const RenderOutput& before = renderer->before();
-    std::vector<RenderOutput> after(nc);
-    for (std::size_t c = 0; c < nc; ++c) after[c] = renderer->After(columns[c].removed);
-    r.seconds_render += t.Seconds();
-
-    // 3. Metrics.
-    t.Reset();
-    const metrics::DepthRender depth_before = ToDepthRender(before);
-    const metrics::RgbImage rgb_before = ToRgbImage(before);
-    metrics::Gray8 seg_pre;
-    bool has_seg_pre = false;
-    if (!o.seg_before_dir.empty()) has_seg_pre = LoadDetectorMask(o.seg_before_dir, cam.name, o.seg_class, seg_pre);
-    std::vector<metrics::Mask> sam_a;
-    const bool has_sam_a = sam_before && sam_before->Load(cam.name, sam_a);
-    std::vector<metrics::Depth8Pair> pairs(nc);
-    std::vector<metrics::Mask> changed(nc), feature_seg(nc);
-    const metrics::Mask feature_seg_before = features.enabled() ? features.Segment(before) : metrics::Mask{};
-    for (std::size_t c = 0; c < nc; ++c) {
-      ColumnViewMetrics m;
-      m.tiles_rendered = after[c].tiles_rendered;
-      ScoreDepth(depth_before, ToDepthRender(after[c]), object_mask, o, m, pairs[c], changed[c]);
-      const metrics::CollateralPsnr psnr = metrics::ComputeCollateralPsnr(rgb_before, ToRgbImage(after[c]), &object_mask);
-      m.collateral_psnr = psnr.psnr;
-      m.identical = psnr.identical;
-      if (run_semantic[c]) {
-        metrics::Gray8 post;
-        const bool has_post = LoadDetectorMask(columns[c].seg_dir, cam.name, o.seg_class, post);
-        m.semantic = metrics::ComputeSemantic(object_gray, has_seg_pre ? &seg_pre : nullptr,
-                                              has_post ? &post : nullptr, cam.name + ".png");
-      }
-      if (run_sam[c]) {
-        std::vector<metrics::Mask> sam_b;
-        const bool has_b = sam_cols[c]->Load(cam.name, sam_b);
-        if (has_sam_a && has_b) m.sim_sam = metrics::ComputeSimSam(object_gray, sam_a, sam_b, o.sim_sam);
-        else ++sam_missing[c];
-      }
-      if (features.enabled()) {
-        feature_seg[c] = features.Segment(after[c]);
-        m.feature = features.Score(object_mask, feature_seg_before, feature_seg[c], cam.name);
-      }
-      view.columns.push_back(std::move(m));
-    }
-    r.seconds_metrics += t.Seconds();
-
-    // 4. Pictures and the 8-bit depth pairs (METRICS.md §6) for re-scoring elsewhere.
-    t.Reset();
-    // Encoded in parallel below: PNG compression dominates the I/O time.
-    std::vector<std::pair<fs::path, Image8>> jobs;
-    auto write = [&](const fs::path& path, Image8 img) { jobs.emplace_back(path, std::move(img)); };
-    if (o.write_images) {
-      json pictures = json::array();
-      auto picture = [&](const std::string& key, const std::string& label, const std::string& file, Image8 img) {
-        write(images / file, std::move(img));
-        pictures.push_back({{"key", key}, {"label", label}, {"src", "images/" + file}});
-      };
-      picture("before", "before", stem + "_before.png", RenderToRgb8(before));
-      for (std::size_t c = 0; c < nc; ++c)
-        picture(columns[c].name, columns[c].label, stem + "_" + columns[c].name + ".png", RenderToRgb8(after[c]));
-      for (std::size_t c = 0; c < nc; ++c) {
-        const std::string& col = columns[c].name;
-        picture(col + "_residual", columns[c].label + ": residual", stem + "_" + col + "_residual.png",
-                ResidualOverlay(after[c], object_mask, changed[c]));
-      }
-      for (std::size_t c = 1; c < nc; ++c) {
-        const std::string& col = columns[c].name;
-        Image8 overlay = AddedOverlay(after[0], added[c]);
-        PaintRestored(overlay, after[c], restored[c]);
-        picture(col + "_added", columns[c].label + ": added / restored",
-                stem + (col == "refined" ? std::string() : "_" + col) + "_added.png", std::move(overlay));
-      }
-      for (std::size_t c = 0; c < nc; ++c)
-        picture(columns[c].name + "_depthdiff", columns[c].label + ": depth change",
-                stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_depthdiff.png",
-                DepthDiffImage(changed[c], object_mask));
-      if (features.enabled())
-        for (std::size_t c = 0; c < nc; ++c)
-          picture(columns[c].name + "_featseg", columns[c].label + ": feature segmentation before | after",
-                  stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_featseg.png",
-                  FeatureSegImage(before, after[c], object_mask, feature_seg_before, feature_seg[c]));
-      view_images.push_back({{"view", cam.name}, {"images", std::move(pictures)}});
-    }
-    if (o.export_renders) {
-      write(out / "renders" / "before" / (stem + ".png"), RenderToRgb8(before));
-      for (std::size_t c = 0; c < nc; ++c) write(out / "renders" / columns[c].name / (stem + ".png"), RenderToRgb8(after[c]));
-    }
-    if (o.write_depth_pngs) {
-      write(out / "masks" / (stem + ".png"), Image8{object_gray.width, object_gray.height, 1, object_gray.pixels});
-      for (std::size_t c = 0; c < nc; ++c) {
-        const fs::path d = out / "depth" / columns[c].name;
-        write(d / "before" / (stem + ".png"), Image8{pairs[c].before.width, pairs[c].before.height, 1, pairs[c].before.pixels});
-        write(d / "after" / (stem + ".png"), Image8{pairs[c].after.width, pairs[c].after.height, 1, pairs[c].after.pixels});
-      }
-    }
-    WritePngsParallel(jobs, o.render.num_threads);
-    png_writes += jobs.size();
-    r.seconds_io += t.Seconds();
-    r.views.push_back(std::move(view));
-    progress.Step(vi + 1);
-  }
-  progress.Finish();
-
-  // Summaries over the evaluated views.
+// Step 1: the object mask (> 0) of a view, in 8-bit grey (semantic / sim_SAM binarise it
+// themselves). From --object-masks, or from the "before" render with --labels (then the renderer
+// is created here and kept). False when the mask file is missing.
+bool ObjectMaskOf(EvalContext& ctx, const Camera& cam, EvalResult& r, metrics::Gray8& gray,
+                  std::unique_ptr<IncrementalRenderer>& renderer) {
   Timer t;
+  if (!ctx.object.masks_dir.empty()) {
+    const fs::path path = fs::path(ctx.object.masks_dir) / (cam.name + ".png");
+    const bool found = IsFile(path);
+    if (found) gray = metrics::LoadGray8Png(path.string());
+    r.seconds_io += t.Seconds();
+    return found;
+  }
+  // The object's share of the "before" composite (sum of alpha*T over its Gaussians) comes out of
+  // the "before" render itself: one compositing pass instead of a second one just for the mask. It
+  // agrees with fixtures::SubsetWeight (the synth ground truth) up to float rounding of the
+  // projection (tests/fixtures/subset_weight_render_test.cpp). Timed as render.
+  RenderOptions with_share = ctx.render;
+  with_share.weight_subset = &ctx.subset;
+  renderer = std::make_unique<IncrementalRenderer>(ctx.scene, cam, with_share);
+  r.seconds_render += t.Seconds();
+  t.Reset();
+  const std::vector<float>& share = renderer->before().subset_weight;
+  gray = {cam.width, cam.height, std::vector<std::uint8_t>(share.size())};
+  for (std::size_t p = 0; p < share.size(); ++p) gray.pixels[p] = share[p] >= 0.5f ? 255 : 0;
+  r.seconds_object_masks += t.Seconds();
+  return true;
+}
+
+// The renders and masks of one evaluated view that the metrics and the pictures share.
+struct ViewRenders {
+  const RenderOutput* before = nullptr;
+  std::vector<RenderOutput> after;
+  metrics::Gray8 object_gray;
+  metrics::Mask object_mask, feature_seg_before;
+  std::vector<metrics::Depth8Pair> pairs;
+  std::vector<metrics::Mask> changed, feature_seg;
+};
+
+// The detector (GroundedSAM) IoU and sim_SAM of column c, when their inputs exist.
+void ScoreSegmentations(EvalContext& ctx, const Camera& cam, std::size_t c, const metrics::Gray8* seg_pre,
+                        const std::vector<metrics::Mask>* sam_a, const metrics::Gray8& object_gray,
+                        ColumnViewMetrics& m) {
+  if (ctx.run_semantic[c]) {
+    metrics::Gray8 post;
+    const bool has_post = LoadDetectorMask(ctx.columns[c].seg_dir, cam.name, ctx.o.seg_class, post);
+    m.semantic = metrics::ComputeSemantic(object_gray, seg_pre, has_post ? &post : nullptr, cam.name + ".png");
+  }
+  if (!ctx.run_sam[c]) return;
+  std::vector<metrics::Mask> sam_b;
+  const bool has_b = ctx.sam_cols[c]->Load(cam.name, sam_b);
+  if (sam_a && has_b) m.sim_sam = metrics::ComputeSimSam(object_gray, *sam_a, sam_b, ctx.o.sim_sam);
+  else ++ctx.sam_missing[c];
+}
+
+// Step 3: every metric of every column on one view.
+void ScoreView(EvalContext& ctx, const Camera& cam, ViewRenders& v, ViewRecord& view) {
+  const std::size_t nc = ctx.columns.size();
+  const metrics::DepthRender depth_before = ToDepthRender(*v.before);
+  const metrics::RgbImage rgb_before = ToRgbImage(*v.before);
+  metrics::Gray8 seg_pre;
+  const bool has_seg_pre = !ctx.o.seg_before_dir.empty() &&
+                           LoadDetectorMask(ctx.o.seg_before_dir, cam.name, ctx.o.seg_class, seg_pre);
+  std::vector<metrics::Mask> sam_a;
+  const bool has_sam_a = ctx.sam_before && ctx.sam_before->Load(cam.name, sam_a);
+  v.pairs.resize(nc);
+  v.changed.resize(nc);
+  v.feature_seg.resize(nc);
+  if (ctx.features.enabled()) v.feature_seg_before = ctx.features.Segment(*v.before);
+  for (std::size_t c = 0; c < nc; ++c) {
+    ColumnViewMetrics m;
+    m.tiles_rendered = v.after[c].tiles_rendered;
+    ScoreDepth(depth_before, ToDepthRender(v.after[c]), v.object_mask, ctx.o, m, v.pairs[c], v.changed[c]);
+    const metrics::CollateralPsnr psnr = metrics::ComputeCollateralPsnr(rgb_before, ToRgbImage(v.after[c]), &v.object_mask);
+    m.collateral_psnr = psnr.psnr;
+    m.identical = psnr.identical;
+    ScoreSegmentations(ctx, cam, c, has_seg_pre ? &seg_pre : nullptr, has_sam_a ? &sam_a : nullptr, v.object_gray, m);
+    if (ctx.features.enabled()) {
+      v.feature_seg[c] = ctx.features.Segment(v.after[c]);
+      m.feature = ctx.features.Score(v.object_mask, v.feature_seg_before, v.feature_seg[c], cam.name);
+    }
+    view.columns.push_back(std::move(m));
+  }
+}
+
+using PngJobs = std::vector<std::pair<fs::path, Image8>>;
+
+// Step 4a: report.html's pictures of one view (before, after, residual, added, depth change, feature
+// segmentation), queued as PNG jobs.
+void QueuePictures(EvalContext& ctx, const Camera& cam, const ViewRenders& v, PngJobs& jobs) {
+  const std::vector<EvalColumn>& columns = ctx.columns;
+  const std::size_t nc = columns.size();
+  const std::string stem = SafeName(cam.name);
+  json pictures = json::array();
+  auto picture = [&](const std::string& key, const std::string& label, const std::string& file, Image8 img) {
+    jobs.emplace_back(ctx.images / file, std::move(img));
+    pictures.push_back({{"key", key}, {"label", label}, {"src", "images/" + file}});
+  };
+  auto suffix = [&](std::size_t c) { return c == 0 ? std::string() : "_" + columns[c].name; };
+  picture("before", "before", stem + "_before.png", RenderToRgb8(*v.before));
+  for (std::size_t c = 0; c < nc; ++c)
+    picture(columns[c].name, columns[c].label, stem + "_" + columns[c].name + ".png", RenderToRgb8(v.after[c]));
+  for (std::size_t c = 0; c < nc; ++c)
+    picture(columns[c].name + "_residual", columns[c].label + ": residual", stem + "_" + columns[c].name + "_residual.png",
+            ResidualOverlay(v.after[c], v.object_mask, v.changed[c]));
+  for (std::size_t c = 1; c < nc; ++c) {
+    Image8 overlay = AddedOverlay(v.after[0], ctx.added[c]);
+    PaintRestored(overlay, v.after[c], ctx.restored[c]);
+    picture(columns[c].name + "_added", columns[c].label + ": added / restored",
+            stem + (columns[c].name == "refined" ? std::string() : suffix(c)) + "_added.png", std::move(overlay));
+  }
+  for (std::size_t c = 0; c < nc; ++c)
+    picture(columns[c].name + "_depthdiff", columns[c].label + ": depth change", stem + suffix(c) + "_depthdiff.png",
+            DepthDiffImage(v.changed[c], v.object_mask));
+  if (ctx.features.enabled())
+    for (std::size_t c = 0; c < nc; ++c)
+      picture(columns[c].name + "_featseg", columns[c].label + ": feature segmentation before | after",
+              stem + suffix(c) + "_featseg.png",
+              FeatureSegImage(*v.before, v.after[c], v.object_mask, v.feature_seg_before, v.feature_seg[c]));
+  ctx.view_images.push_back({{"view", cam.name}, {"images", std::move(pictures)}});
+}
+
+// Step 4b: the renders for external segmenters and the 8-bit depth pairs (METRICS.md §6) for
+// re-scoring elsewhere.
+void QueueExports(const EvalContext& ctx, const Camera& cam, const ViewRenders& v, PngJobs& jobs) {
+  const std::string stem = SafeName(cam.name);
+  if (ctx.o.export_renders) {
+    jobs.emplace_back(ctx.out / "renders" / "before" / (stem + ".png"), RenderToRgb8(*v.before));
+    for (std::size_t c = 0; c < ctx.columns.size(); ++c)
+      jobs.emplace_back(ctx.out / "renders" / ctx.columns[c].name / (stem + ".png"), RenderToRgb8(v.after[c]));
+  }
+  if (!ctx.o.write_depth_pngs) return;
+  const metrics::Gray8& g = v.object_gray;
+  jobs.emplace_back(ctx.out / "masks" / (stem + ".png"), Image8{g.width, g.height, 1, g.pixels});
+  for (std::size_t c = 0; c < ctx.columns.size(); ++c) {
+    const fs::path d = ctx.out / "depth" / ctx.columns[c].name;
+    const metrics::Depth8Pair& pair = v.pairs[c];
+    jobs.emplace_back(d / "before" / (stem + ".png"), Image8{pair.before.width, pair.before.height, 1, pair.before.pixels});
+    jobs.emplace_back(d / "after" / (stem + ".png"), Image8{pair.after.width, pair.after.height, 1, pair.after.pixels});
+  }
+}
+
+// Steps 1-4 for one camera; views without the object are counted and skipped (SPEC §6).
+void EvaluateView(EvalContext& ctx, const Camera& cam, EvalResult& r) {
+  ViewRecord view;
+  view.name = cam.name;
+  view.width = cam.width;
+  view.height = cam.height;
+  ViewRenders v;
+  std::unique_ptr<IncrementalRenderer> renderer;
+  if (!ObjectMaskOf(ctx, cam, r, v.object_gray, renderer)) {
+    view.object_mask_missing = true;
+    ++r.missing_object_masks;
+  }
+  v.object_mask = metrics::Binarize(v.object_gray, 0);
+  view.object_pixels = v.object_mask.Count();
+  if (view.object_pixels == 0) {
+    if (!view.object_mask_missing) ++r.skipped_empty_object;
+    r.views.push_back(std::move(view));
+    return;
+  }
+  view.evaluated = true;
+  ++r.evaluated;
+  // Step 2: "before" in full (already done with --labels), each column incrementally from its cache.
+  Timer t;
+  if (!renderer) renderer = std::make_unique<IncrementalRenderer>(ctx.scene, cam, ctx.render);
+  v.before = &renderer->before();
+  for (const EvalColumn& column : ctx.columns) v.after.push_back(renderer->After(column.removed));
+  r.seconds_render += t.Seconds();
+  t.Reset();
+  ScoreView(ctx, cam, v, view);
+  r.seconds_metrics += t.Seconds();
+  t.Reset();
+  PngJobs jobs;  // encoded in parallel: PNG compression dominates the I/O time
+  if (ctx.o.write_images) QueuePictures(ctx, cam, v, jobs);
+  QueueExports(ctx, cam, v, jobs);
+  WritePngsParallel(jobs, ctx.o.render.num_threads);
+  ctx.png_writes += jobs.size();
+  r.seconds_io += t.Seconds();
+  r.views.push_back(std::move(view));
+}
+
+// Summaries over the evaluated views, per column.
+void SummarizeColumns(const EvalContext& ctx, EvalResult& r) {
+  const std::size_t nc = ctx.columns.size();
   r.summaries.resize(nc);
   for (std::size_t c = 0; c < nc; ++c) {
     ColumnSummary& s = r.summaries[c];
-    s.num_removed = std::size_t(std::count(columns[c].removed.begin(), columns[c].removed.end(), true));
+    s.num_removed = std::size_t(std::count(ctx.columns[c].removed.begin(), ctx.columns[c].removed.end(), true));
     std::vector<metrics::DepthRecord> d8, df;
     std::vector<double> psnr, sim;
     std::vector<metrics::SemanticRecord> sem;
@@ -358,64 +401,65 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     s.depth8 = metrics::SummarizeDepth(d8);
     s.depth_float = metrics::SummarizeDepth(df);
     s.collateral_psnr = metrics::ComputeMeanStd(psnr);
-    if (run_semantic[c]) s.semantic = metrics::SummarizeSemantic(sem, o.semantic);
-    if (features.enabled()) s.feature = metrics::SummarizeFeature(feat, o.semantic);
-    if (run_sam[c]) {
+    if (ctx.run_semantic[c]) s.semantic = metrics::SummarizeSemantic(sem, ctx.o.semantic);
+    if (ctx.features.enabled()) s.feature = metrics::SummarizeFeature(feat, ctx.o.semantic);
+    if (ctx.run_sam[c]) {
       s.sim_sam = metrics::ComputeMeanStd(sim);
-      s.sim_sam_missing = sam_missing[c];
+      s.sim_sam_missing = ctx.sam_missing[c];
     }
   }
   if (r.evaluated == 0)
     r.warnings.push_back("no view shows the object (all object masks empty or missing): every metric is 0");
   if (r.missing_object_masks)
     r.warnings.push_back(std::to_string(r.missing_object_masks) + " view(s) without an object mask in " +
-                         object.masks_dir + " were excluded");
-  r.seconds_metrics += t.Seconds();
+                         ctx.object.masks_dir + " were excluded");
+}
 
-  // report.json, metrics.csv, tables.
-  t.Reset();
-  json report = report_in ? *report_in : NewReport("eval");
-  AddEvalParams(report, columns, object, o);
-
-  report["counts"] = {{"num_gaussians", n},
-                      {"views", cameras.size()},
-                      {"evaluated", r.evaluated},
-                      {"skipped_empty_object", r.skipped_empty_object},
-                      {"missing_object_masks", r.missing_object_masks},
-                      {"png_files", png_writes}};
+// report.json's "metrics": per column its summary (+ ground truth with labels, + added count).
+json MetricsJson(const EvalContext& ctx, EvalResult& r) {
+  const Scene& scene = ctx.scene;
+  const bool with_gt = !ctx.object.labels.empty() && ctx.object.labels.size() == scene.size();
+  const std::vector<float> opacity(scene.opacity_logits.data(), scene.opacity_logits.data() + scene.opacity_logits.size());
   json cols = json::array();
-  for (std::size_t c = 0; c < nc; ++c) {
-    json j = ColumnSummaryJson(columns[c], r.summaries[c], o);
-    if (!object.labels.empty() && object.labels.size() == n)
-      j["gt"] = ScoreRemoval(columns[c].removed, object.labels, object.object_id,
-                                       std::vector<float>(scene.opacity_logits.data(),
-                                                          scene.opacity_logits.data() + scene.opacity_logits.size()))
-                    .ToJson();
-    if (c > 0) j["added"] = std::size_t(std::count(added[c].begin(), added[c].end(), true));
+  for (std::size_t c = 0; c < ctx.columns.size(); ++c) {
+    json j = ColumnSummaryJson(ctx.columns[c], r.summaries[c], ctx.o);
+    if (with_gt) j["gt"] = ScoreRemoval(ctx.columns[c].removed, ctx.object.labels, ctx.object.object_id, opacity).ToJson();
+    if (c > 0) j["added"] = std::size_t(std::count(ctx.added[c].begin(), ctx.added[c].end(), true));
     cols.push_back(std::move(j));
   }
   json skipped = json::array();
   for (const auto& s : r.skipped) skipped.push_back({{"metric", s.metric}, {"column", s.column}, {"reason", s.reason}});
-  r.feature = features.ToJson();
-  report["metrics"] = {{"columns", cols}, {"skipped", skipped}, {"feature_segmentation", r.feature}};
+  r.feature = ctx.features.ToJson();
+  return {{"columns", cols}, {"skipped", skipped}, {"feature_segmentation", r.feature}};
+}
+
+// report.json's counts, metrics, warnings, outputs; the tables and metrics.csv beside it.
+json WriteEvalFiles(const EvalContext& ctx, std::size_t num_views, EvalResult& r, const json* report_in) {
+  json report = report_in ? *report_in : NewReport("eval");
+  AddEvalParams(report, ctx.columns, ctx.object, ctx.o);
+  report["counts"] = {{"num_gaussians", ctx.scene.size()},          {"views", num_views},
+                      {"evaluated", r.evaluated},                   {"skipped_empty_object", r.skipped_empty_object},
+                      {"missing_object_masks", r.missing_object_masks}, {"png_files", ctx.png_writes}};
+  report["metrics"] = MetricsJson(ctx, r);
   json& warnings = report["warnings"];
   if (!warnings.is_array()) warnings = json::array();
   for (const auto& w : r.warnings) warnings.push_back(w);
-
-  const Table table = TableFromResult(o.row_name, columns, r);
-  WriteFileAtomically(out / "metrics.csv", MetricsCsv(columns, r));
-  WriteFileAtomically(out / "table.md", TableMarkdown(table));
-  WriteFileAtomically(out / "table.tex", TableLatex(table));
+  const Table table = TableFromResult(ctx.o.row_name, ctx.columns, r);
+  WriteFileAtomically(ctx.out / "metrics.csv", MetricsCsv(ctx.columns, r));
+  WriteFileAtomically(ctx.out / "table.md", TableMarkdown(table));
+  WriteFileAtomically(ctx.out / "table.tex", TableLatex(table));
   r.outputs = {"report.json", "report.html", "metrics.csv", "table.md", "table.tex"};
-  if (o.write_images) r.outputs.push_back("images/");
-  if (o.write_depth_pngs) {
+  if (ctx.o.write_images) r.outputs.push_back("images/");
+  if (ctx.o.write_depth_pngs) {
     r.outputs.push_back("masks/");
     r.outputs.push_back("depth/");
   }
-  if (o.export_renders) r.outputs.push_back("renders/");
+  if (ctx.o.export_renders) r.outputs.push_back("renders/");
   report["outputs"] = r.outputs;
-  r.seconds_io += t.Seconds();
-  r.seconds_total = total.Seconds();
+  return report;
+}
+
+void AddTimings(const EvalResult& r, json& report) {
   json& timings = report["timings_s"];
   if (!timings.is_object()) timings = json::object();
   timings["object_masks"] = r.seconds_object_masks;
@@ -424,8 +468,45 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   timings["metrics"] = r.seconds_metrics;
   timings["io"] = r.seconds_io;
   timings["eval_total"] = r.seconds_total;
-  WriteReport(out, report);
-  WriteFileAtomically(out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), view_images));
+}
+
+}  // namespace
+
+EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
+                   const ObjectSource& object, const EvalOptions& o, const json* report_in) {
+  Timer total;
+  Validate(scene, cameras, columns, object, o);
+  EvalResult r;
+  // Feature metrics: channels and prototypes once per scene; the renders composite the channels in
+  // the RGB pass (al/eval/feature_eval.hpp).
+  Timer feature_timer;
+  EvalContext ctx(scene, columns, object, o, cameras);
+  ctx.render = o.render;
+  ctx.render.features = ctx.features.channels();
+  r.seconds_features = feature_timer.Seconds();
+  PlanOptionalMetrics(ctx, r);
+  StagedOutput staging(o.out_dir);
+  ctx.out = staging.dir();
+  ctx.images = ctx.out / "images";
+  MakeOutputFolders(ctx);
+  MarkGaussians(ctx);
+  OpenSamLists(ctx);
+  Progress progress("eval", cameras.size(), o.progress);
+  for (std::size_t vi = 0; vi < cameras.size(); ++vi) {
+    EvaluateView(ctx, cameras[vi], r);
+    progress.Step(vi + 1);
+  }
+  progress.Finish();
+  Timer t;
+  SummarizeColumns(ctx, r);
+  r.seconds_metrics += t.Seconds();
+  t.Reset();
+  json report = WriteEvalFiles(ctx, cameras.size(), r, report_in);
+  r.seconds_io += t.Seconds();
+  r.seconds_total = total.Seconds();
+  AddTimings(r, report);
+  WriteReport(ctx.out, report);
+  WriteFileAtomically(ctx.out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), ctx.view_images));
   staging.Commit();
   r.report = std::move(report);
   return r;
