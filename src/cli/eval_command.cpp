@@ -158,23 +158,8 @@ class EvalCommand : public Command {
     report["timings_s"] = {{"load_scene", load_scene_s}, {"load_inputs", load_inputs_s}};
     const eval::EvalResult r = eval::RunEval(scene, views, columns, object, o_, &report);
 
-    const auto& cols = r.report["metrics"]["columns"];
-    std::printf("eval %s: %zu of %zu views evaluated (%zu without the object)\n", row.c_str(), r.evaluated,
-                views.size(), r.skipped_empty_object + r.missing_object_masks);
-    std::printf("  %-16s %9s %9s %10s %11s %9s %11s %10s\n", "removal", "removed", "acc_dd", "acc_dd_f",
-                "coll_depth", "IoU_drop", "IoU_drop_ft", "resid_ft");
-    auto field = [](const nlohmann::json& c, const char* group, const char* key) {
-      return c.contains(group) ? std::to_string(c[group][key].get<double>()).substr(0, 6) : std::string("-");
-    };
-    for (const auto& c : cols)
-      std::printf("  %-16s %9zu %9.3f %10.3f %11.4f %9s %11s %10s\n", c["label"].get<std::string>().c_str(),
-                  c["num_removed"].get<std::size_t>(), c["depth"]["mean_acc_delta_depth"].get<double>(),
-                  c["depth_float"]["mean_acc_delta_depth"].get<double>(),
-                  c["depth"]["collateral_depth"]["mean"].get<double>(), field(c, "semantic", "mean_iou_drop").c_str(),
-                  field(c, "feature", "mean_iou_drop").c_str(), field(c, "feature", "mean_residual").c_str());
-    for (const auto& s : r.skipped)
-      if (s.column == "after") std::printf("  skipped %s: %s\n", s.metric.c_str(), s.reason.c_str());
-    std::printf("wrote %s/{report.json, metrics.csv, table.md, table.tex, images/}\n", o_.out_dir.c_str());
+    std::cout << r.BriefReport(row, views.size());
+    std::printf("wrote %s/{report.json, report.html, metrics.csv, table.md, table.tex, images/}\n", o_.out_dir.c_str());
     return 0;
   }
 

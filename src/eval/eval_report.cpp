@@ -1,5 +1,6 @@
 #include "al/eval/report_json.hpp"
 
+#include <cstdio>
 #include <sstream>
 
 namespace al::eval {
@@ -92,6 +93,31 @@ json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const E
                     {"direction", "SAM segments of the before render vs this column's render: lower = better "
                                   "removal (paper)"}};
   return j;
+}
+
+std::string EvalResult::BriefReport(const std::string& row, std::size_t num_views) const {
+  std::string out;
+  char line[512];
+  std::snprintf(line, sizeof line, "eval %s: %zu of %zu views evaluated (%zu without the object)\n", row.c_str(),
+                evaluated, num_views, skipped_empty_object + missing_object_masks);
+  out += line;
+  std::snprintf(line, sizeof line, "  %-16s %9s %9s %10s %11s %9s %11s %10s\n", "removal", "removed", "acc_dd",
+                "acc_dd_f", "coll_depth", "IoU_drop", "IoU_drop_ft", "resid_ft");
+  out += line;
+  auto field = [](const json& c, const char* group, const char* key) {
+    return c.contains(group) ? std::to_string(c[group][key].get<double>()).substr(0, 6) : std::string("-");
+  };
+  for (const auto& c : report["metrics"]["columns"]) {
+    std::snprintf(line, sizeof line, "  %-16s %9zu %9.3f %10.3f %11.4f %9s %11s %10s\n",
+                  c["label"].get<std::string>().c_str(), c["num_removed"].get<std::size_t>(),
+                  c["depth"]["mean_acc_delta_depth"].get<double>(), c["depth_float"]["mean_acc_delta_depth"].get<double>(),
+                  c["depth"]["collateral_depth"]["mean"].get<double>(), field(c, "semantic", "mean_iou_drop").c_str(),
+                  field(c, "feature", "mean_iou_drop").c_str(), field(c, "feature", "mean_residual").c_str());
+    out += line;
+  }
+  for (const auto& s : skipped)
+    if (s.column == "after") out += "  skipped " + s.metric + ": " + s.reason + "\n";
+  return out;
 }
 
 }  // namespace al::eval

@@ -113,6 +113,10 @@ struct EvalResult {
   nlohmann::json feature;                // FeatureScorer::ToJson(): channels, prototypes (or why skipped)
   nlohmann::json report;                 // exactly what was written to report.json
   std::vector<std::string> outputs;      // files written, relative to out_dir
+
+  // What `eval` prints: views evaluated, one line per removal (removed, acc_Δdepth 8-bit and float,
+  // collateral depth, IoU_drop, IoU_drop_feat, residual_feat), the metrics the method's column skipped.
+  std::string BriefReport(const std::string& row, std::size_t num_views) const;
 };
 
 // Runs the evaluation of `columns` (at least one; by convention the removal method's set first,
