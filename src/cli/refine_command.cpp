@@ -48,6 +48,8 @@ class RefineCommand : public Command {
       throw Error("--cameras / --object-masks are for --auto (use `al-refine eval` to score a refinement)",
                   ExitCode::kUsage);
     const RefineResult r = auto_ ? RunAuto(o) : RunRefine(o);
+    for (const auto& w : r.report["warnings"])
+      if (w.get<std::string>() != r.message) std::cerr << "warning: " << w.get<std::string>() << "\n";
     const auto& c = r.report["counts"];
     std::cout << "nodes " << c["candidates"] << ", edges " << c["edges"] << ", removed "
               << c["removed_input"] << " -> " << c["refined"] << "\n";

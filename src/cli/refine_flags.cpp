@@ -34,9 +34,23 @@ void AddGraphFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--spatial", f.spatial, "Spatial weight factor on|off")
       ->check(CLI::IsMember({"on", "off"}))->default_val("on");
   app.add_option("--hops", g.hops, "Candidate growth repetitions")->default_val(1);
+  app.add_option("--grow-rounds", g.grow_rounds, "Grow the candidate set around what the cut added and "
+                 "solve again, at most this many times (0 = fixed candidate set)")
+      ->check(CLI::Range(0, 1000))->capture_default_str();
   app.add_option("--radius-scale", g.radius_scale, "Multiplier of r_i = max exp(scale)")->default_val(1.0);
   app.add_option("--knn-checks", g.knn_checks, "0 = exact kNN; > 0 approximate (FLANN checks)")->default_val(0);
   app.add_option("--kl-smoothing", g.kl_smoothing, "s of the smoothed KL")->default_val(0.1);
+  app.add_option("--centre", f.centre, "Centre semantic features on the scene mean (on|off)")
+      ->check(CLI::IsMember({"on", "off"}))->default_val("on");
+  app.add_option("--prior-weight", g.prior.weight, "Feature prior in the unary: y = (1-w) mask + w q "
+                 "(0 = the mask alone)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
+  app.add_option("--prior-width", g.prior.width, "Feature prior: robust sigmas below the removed median "
+                 "where q reaches 0")->capture_default_str();
+  app.add_option("--prior-full", g.prior.full, "Feature prior: robust sigmas below the removed median "
+                 "where q reaches 1")->capture_default_str();
+  app.add_flag("--prior-mixture", g.prior.mixture, "Feature prior: q from a 2-Gaussian mixture (exploration)");
+  app.add_option("--prior-direction", f.prior_direction, "Feature prior direction: contrast (removed - kept "
+                 "mean) | mean (removed mean)")->check(CLI::IsMember({"contrast", "mean"}))->default_val("contrast");
 }
 
 void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
@@ -61,6 +75,8 @@ RefineOptions ToRefineOptions(const RefineFlags& f) {
     o.removed_is = f.removed_is == "remaining" ? RemovedIs::kRemaining : RemovedIs::kRemoved;
   o.graph.delta_mode = f.delta_mode == "cosine" ? DeltaMode::kCosine : DeltaMode::kDistance;
   o.graph.spatial = f.spatial == "on";
+  o.graph.centre_features = f.centre == "on";
+  o.graph.prior.contrast = f.prior_direction == "contrast";
   o.decision.rule = ParseDecisionRule(f.threshold);
   if (f.object_id != RefineFlags::kUnset) o.object_id = f.object_id;
   if (!f.solver_options.empty()) {

@@ -36,22 +36,21 @@ RefineResult RunRefine(const RefineOptions& o) {
   t.Reset();
   const std::size_t N = in.scene.size();
   const GraphOptions& go = o.graph;
-  GraphResult graph = BuildGraphFor(in, go);
+  GrownSolve grown = BuildAndSolve(in, go, *solver, o.decision);
+  const GraphResult& graph = grown.graph;
+  SolveOutcome& solved = grown.outcome;
   const GraphStats& gs = graph.stats;
   for (const auto& w : graph.warnings) warnings.push_back(w);
-  stage_done("graph");
-
-  SolveOutcome solved = SolveAndDecide(in, graph, go, *solver, o.decision);
   for (const auto& w : solved.warnings) warnings.push_back(w);
-  if (!solved.empty_graph) {
-    // The solver times itself; the rest of this stage is the decision rule.
-    const double solve_s = solved.solver.value("seconds", 0.0);
+  {
+    // Graph builds and solves alternate when the candidate set grows: report their sums.
+    const double total_s = t.Seconds();
+    const double solve_s = grown.solve_seconds;
+    timings["graph"] = grown.graph_seconds;
     timings["solve"] = solve_s;
-    if (o.on_stage) o.on_stage("solve", solve_s);
-    timings["decide"] = std::max(0.0, t.Seconds() - solve_s);
+    timings["decide"] = std::max(0.0, total_s - grown.graph_seconds - solve_s);
+    if (o.on_stage) o.on_stage("graph", grown.graph_seconds), o.on_stage("solve", solve_s);
     t.Reset();
-  } else {
-    stage_done("decide");
   }
 
   RefineResult result;
@@ -98,8 +97,11 @@ RefineResult RunRefine(const RefineOptions& o) {
       {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
       {"lambda", go.lambda}, {"spatial", go.spatial}, {"hops", go.hops},
       {"radius_scale", go.radius_scale}, {"knn_checks", go.knn_checks},
-      {"kl_smoothing", go.kl_smoothing}, {"solver", solver_name}, {"solver_options", o.solver_options},
+      {"kl_smoothing", go.kl_smoothing}, {"centre", go.centre_features}, {"grow_rounds", go.grow_rounds},
+      {"prior_weight", go.prior.weight}, {"prior_width", go.prior.width},
+      {"prior_direction", go.prior.contrast ? "contrast" : "mean"}, {"solver", solver_name}, {"solver_options", o.solver_options},
       {"threshold", o.decision.rule.ToString()}, {"restore", o.decision.restore},
+      {"min_segment_share", o.decision.min_segment_share},
       {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
       {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
       {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
@@ -111,6 +113,8 @@ RefineResult RunRefine(const RefineOptions& o) {
   report["removed_set"] = in.removal.stats;
   if (!in.fgs_mask.is_null()) report["fgs_mask"] = in.fgs_mask;
   report["graph"] = GraphStatsToJson(gs);
+  report["graph"]["rounds"] = grown.rounds;
+  report["graph"]["growth_capped"] = grown.capped;
   report["solver"] = solved.solver;
   report["decision"] = solved.decision;
   report["message"] = result.message;

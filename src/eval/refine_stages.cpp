@@ -27,15 +27,20 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 
 // What a --method preset sets (SPEC §3 table); reported under params.preset.
 struct Preset {
-  std::string features;  // "semantic_", "obj_dc_", "auto" or "colour"
-  RemovedIs removed_is = RemovedIs::kRemoved;
+  // A prefix, a preference list ("obj_dc_,auto": the first present; auto = the standard
+  // prefixes; none present: the colour fallback, with a warning) or "colour".
+  std::string features;
+  // For a subset PLY only: a mask or index list is always the removed set unless --removed-is
+  // says otherwise (GG writes its remaining scene as a PLY, never as a mask).
+  RemovedIs subset_ply_is = RemovedIs::kRemoved;
   bool gc_polarity = false;
 };
 
 Preset PresetFor(const std::string& method) {
   if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false};
-  if (method == "gg") return {"obj_dc_", RemovedIs::kRemaining, false};
-  if (method == "sags") return {"colour", RemovedIs::kRemoved, false};
+  if (method == "gg") return {"obj_dc_,auto", RemovedIs::kRemaining, false};
+  // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
+  if (method == "sags") return {"auto", RemovedIs::kRemoved, false};
   if (method == "gc") return {"colour", RemovedIs::kRemoved, true};
   if (method == "generic") return {"auto", RemovedIs::kRemoved, false};
   throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
@@ -81,7 +86,6 @@ void LoadFeatures(const RefineOptions& o, RefineInputs& in, nlohmann::json& repo
     in.feature_source = in.scene.feature_prefix + "*";
   } else {
     in.colour_fallback = true;
-    warnings.push_back("no feature columns found (features '" + feat + "'): using the colour fallback");
   }
   if (!in.colour_fallback && in.features.rows() != static_cast<Eigen::Index>(N))
     throw Error(in.feature_source + ": " + std::to_string(in.features.rows()) + " feature rows for " +
@@ -97,6 +101,12 @@ void LoadFeatures(const RefineOptions& o, RefineInputs& in, nlohmann::json& repo
     in.features = ColourFeatures(in.scene);
     in.feature_source = "colour (RGB = 0.5 + C0*f_dc, raw Euclidean distance)";
   }
+  // Say which features a preset (or auto) chose: sags and gg take what the scene has.
+  if (in.colour_fallback && feat != "colour")
+    warnings.push_back("no feature columns found (features '" + feat + "'): using " + in.feature_source);
+  else if (o.features.empty() && feat != "semantic_")
+    warnings.push_back("--method " + o.method + ": features " + in.feature_source + ", " +
+                       std::to_string(in.features.cols()) + "-D");
 }
 
 GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann::json& report) {
@@ -119,6 +129,13 @@ nlohmann::json ScoresToJson(const fixtures::RemovalScores& s) {
   return {{"precision", s.precision}, {"recall", s.recall}, {"f1", s.f1}, {"iou", s.iou},
           {"precision_w", s.precision_w}, {"recall_w", s.recall_w}, {"f1_w", s.f1_w},
           {"iou_w", s.iou_w}, {"removed", s.removed}, {"target", s.target}};
+}
+
+GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
+                            const std::vector<std::uint8_t>* extra_seeds) {
+  GraphOptions go = options;
+  go.normalize_features = !inputs.colour_fallback;
+  return BuildRefineGraph(inputs.scene, inputs.features, inputs.removal.removed, go, extra_seeds);
 }
 
 }  // namespace
@@ -150,7 +167,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
 
   RefineInputs in;
   in.preset = {{"features", preset.features},
-               {"removed_is", preset.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+               {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
                {"gc_polarity", preset.gc_polarity}};
   in.feature_spec = o.features.empty() ? preset.features : o.features;
   const bool feat_file = EndsWith(in.feature_spec, ".npy") || EndsWith(in.feature_spec, ".ply");
@@ -161,7 +178,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
   LoadFeatures(o, in, report);
   stage_done("load_scene");
 
-  in.removed_is = o.removed_is.value_or(preset.removed_is);
+  in.removed_is = o.removed_is.value_or(EndsWith(o.removed, ".ply") ? preset.subset_ply_is : RemovedIs::kRemoved);
   if (derive_fgs) {
     const RowMatXf prompts = ReadMatrixNpy(o.prompt_embeddings);
     AddInputFile(report, "prompt_embeddings", o.prompt_embeddings);
@@ -188,6 +205,12 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
     AddInputFile(report, "removed", o.removed);
     for (const auto& w : in.removal.warnings) warnings.push_back(w);
   }
+  const std::size_t n_scene = in.scene.size();
+  if (2 * in.removal.num_removed > n_scene)
+    warnings.push_back("the removed set holds " + std::to_string(in.removal.num_removed) + " of " +
+                       std::to_string(n_scene) + " Gaussians, more than half the scene (read as the " +
+                       (in.removed_is == RemovedIs::kRemaining ? "complement of the remaining rows" : "removed rows") +
+                       "): check --removed and --removed-is");
   stage_done("load_removed");
 
   if (!o.labels.empty()) {
@@ -198,9 +221,37 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
 }
 
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
-  GraphOptions go = options;
-  go.normalize_features = !inputs.colour_fallback;
-  return BuildRefineGraph(inputs.scene, inputs.features, inputs.removal.removed, go);
+  return BuildGraphGrown(inputs, options, nullptr);
+}
+
+GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
+                         const DecisionOptions& decision) {
+  if (options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
+  const std::vector<bool>& removed = inputs.removal.removed;
+  std::vector<std::uint8_t> grown(removed.size(), 0);  // everything added so far
+  GrownSolve r;
+  for (int round = 0;; ++round) {
+    Timer t;
+    r.graph = BuildGraphGrown(inputs, options, round ? &grown : nullptr);
+    r.graph_seconds += t.Seconds();
+    r.rounds = round + 1;
+    r.outcome = SolveAndDecide(inputs, r.graph, options, solver, decision);
+    if (!r.outcome.empty_graph) r.solve_seconds += r.outcome.solver.value("seconds", 0.0);
+    if (r.outcome.empty_graph || options.grow_rounds == 0) break;
+    std::vector<std::size_t> fresh;  // added now, not yet grown around
+    for (std::size_t i = 0; i < removed.size(); ++i)
+      if (r.outcome.refined[i] && !removed[i] && !grown[i]) fresh.push_back(i);
+    if (fresh.empty()) break;
+    if (round >= options.grow_rounds) {
+      r.capped = true;
+      break;
+    }
+    for (std::size_t i : fresh) grown[i] = 1;
+  }
+  if (r.capped)
+    r.outcome.warnings.push_back("candidate growth stopped after " + std::to_string(r.rounds) +
+                                 " rounds while the cut was still adding (--grow-rounds)");
+  return r;
 }
 
 SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
@@ -238,7 +289,7 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   out.decision = d.ToJson();
   out.decision["rule"] = decision.rule.ToString();
   out.decision["restore"] = decision.restore;
-  out.message = "refined: " + std::to_string(d.added) + " Gaussians added" +
+  out.message = "refined (features " + inputs.feature_source + "): " + std::to_string(d.added) + " Gaussians added" +
                 (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") +
                 // The segment rule departs from the plain threshold, so say when it acted.
                 (d.held_back > 0 ? ", " + std::to_string(d.held_back) + " held back in " +

@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "al/graph/problem.hpp"
@@ -11,7 +12,9 @@ double SmoothedKl2(double y_remove, double x_remove, double s) {
   double kl = 0.0;
   for (int d = 0; d < 2; ++d)
     if (y[d] > 0.0) kl += y[d] * std::log(y[d] / x[d]);
-  return kl;
+  // KL >= 0 (Gibbs); for y close to x the two terms cancel and rounding can leave -1e-17, which
+  // a max-flow capacity must not be.
+  return std::max(0.0, kl);
 }
 
 double Objective(const RefineProblem& problem, const std::vector<double>& p) {
