@@ -29,7 +29,7 @@ import scenes  # noqa: E402
 REPO = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 BUILTIN_CONFIGS = {"default": [], "auto": ["--auto"]}
 # B3's one parameter, chosen on the tuning half (docs/accuracy.md); B1 and B2 use the issue's values.
-BASELINE_PARAMS = {"B1": {}, "B2": {}, "B3": {"lam": 0.25}}
+BASELINE_PARAMS = {"B1": {}, "B2": {}, "B3": {"lam": 1.0}}
 
 
 def parse_args():
@@ -42,7 +42,6 @@ def parse_args():
     ap.add_argument("--configs", default="default,auto")
     ap.add_argument("--config", action="append", default=[], help="NAME=FLAGS (extra al-refine flags)")
     ap.add_argument("--baselines", default="B1,B2,B3")
-    ap.add_argument("--baseline-param", action="append", default=[], help="B3:lam=0.5 (exploration)")
     ap.add_argument("--n", type=int, default=60000)
     ap.add_argument("--max-seeds", type=int, default=0, help="at most this many seeds per style and half")
     ap.add_argument("--bin", default=os.path.join(REPO, "build", "al-refine"))
@@ -62,12 +61,15 @@ def plan(args):
     for item in args.config:
         name, _, flags = item.partition("=")
         configs[name] = flags.split()
-    params = {k: dict(v) for k, v in BASELINE_PARAMS.items()}
-    for item in args.baseline_param:
-        b, _, kv = item.partition(":")
-        key, _, val = kv.partition("=")
-        params[b][key] = float(val)
-    bls = [] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]
+    # "B3" runs with BASELINE_PARAMS; "B3:lam=0.5" with that value (tuning), recorded under that name.
+    bls = []
+    for item in ([] if args.baselines == "none" else [b for b in args.baselines.split(",") if b]):
+        name, _, kv = item.partition(":")
+        params = dict(BASELINE_PARAMS[name])
+        if kv:
+            key, _, val = kv.partition("=")
+            params[key] = float(val)
+        bls.append((item, name, params))
     styles = [s for s in args.styles.split(",") if s]
     todo = []
     for sc in scenes.scene_list(args.halves.split(","), args.quick, args.sources.split(","), styles,
@@ -76,8 +78,8 @@ def plan(args):
             for cname, flags in configs.items():
                 for solver in args.solvers.split(","):
                     todo.append((sc, mask, method, "al", cname, solver, flags))
-            for b in bls:
-                todo.append((sc, mask, method, "baseline", b, "-", params[b]))
+            for label, name, params in bls:
+                todo.append((sc, mask, method, "baseline", label, "-", params))
     return todo
 
 
@@ -118,7 +120,7 @@ def main():
         if kind == "al":
             rec = runner.run_al_refine(args.bin, data, path, method, solver, flags)
         else:
-            rec = runner.run_baseline(name, data, path, flags)
+            rec = runner.run_baseline(name.partition(":")[0], data, path, flags)
         rec.update({"id": run_id(item, args.n), "source": sc.source, "style": sc.style, "seed": sc.seed, "half": sc.half,
                     "mask": mask, "method": method, "config": name, "solver": solver, "n": args.n})
         return rec

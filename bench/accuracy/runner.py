@@ -38,8 +38,11 @@ def run_al_refine(al_bin, data, mask_path, method, solver, flags, timeout=1800):
         cmd = [al_bin, "refine", "--scene", os.path.join(data.folder, "scene.ply"), "--removed", mask_path,
                "--method", method, "--k", "10", "--delta", "0.8", "--solver", solver,
                "--labels", os.path.join(data.folder, "labels.npy"), "--out", out, "--quiet"] + list(flags)
+        # One thread per run: the bench runs --jobs runs side by side on a shared machine, where
+        # OpenMP barriers of a 2-thread solve under contention cost more than they save.
+        env = dict(os.environ, OMP_NUM_THREADS=os.environ.get("AL_ACCURACY_THREADS", "1"))
         t0 = time.perf_counter()
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
         seconds = time.perf_counter() - t0
         removed = np.load(mask_path)
         if proc.returncode not in (0, 3):   # 3 = empty graph: the output equals the input
@@ -60,6 +63,11 @@ def _params_of(report):
     p = report.get("params", {})
     keep = ("k", "delta", "lambda", "restore", "feature_source", "hops")
     out = {k: p[k] for k in keep if k in p}
+    g = report.get("graph", {})
+    if "prior" in g:
+        out["prior"] = g["prior"]
+        out["rounds"] = g.get("rounds")
+        out["candidates"] = g.get("nodes")
     if "auto" in report:
         out["auto_chosen"] = {k: report["auto"]["chosen"][k] for k in ("k", "delta", "lambda")}
     return out

@@ -27,7 +27,9 @@ DecisionRule ParseDecisionRule(const std::string& text);
 
 struct DecisionOptions {
   DecisionRule rule;
-  bool restore = false;  // let nodes of R with p_v < τ return
+  // Let nodes of R with p_v < τ return. On by default [project, docs/refine.md]: the feature prior
+  // doubts a removed Gaussian only where the method kept most of its feature group.
+  bool restore = true;
   // Additions need a segment removed by at least this share (0 = SPEC §5's plain rule, the
   // default). An earlier default (2/3) held back every addition where the whole candidate graph
   // is one segment the method removed only partly (docs/refine.md: what did not transfer).

@@ -53,9 +53,12 @@ class RefineCommand : public Command {
     const auto& c = r.report["counts"];
     std::cout << "nodes " << c["candidates"] << ", edges " << c["edges"] << ", removed "
               << c["removed_input"] << " -> " << c["refined"] << "\n";
-    if (r.report.contains("gt"))
-      std::cout << "ground truth F1 " << r.report["gt"]["before"]["f1"] << " -> "
-                << r.report["gt"]["after"]["f1"] << "\n";
+    if (r.report.contains("gt")) {
+      const auto& ch = r.report["gt"]["change"];
+      std::cout << "ground truth F1 " << r.report["gt"]["before"]["f1"] << " -> " << r.report["gt"]["after"]["f1"]
+                << "; misses recovered " << ch["misses_recovered"] << ", precision of the added "
+                << ch["precision_added"] << ", of the restored " << ch["precision_restored"] << "\n";
+    }
     (r.exit_code == 0 ? std::cout : std::cerr) << r.message << "\n";
     std::cout << "wrote " << o.out_dir << "/report.json\n";
     return r.exit_code;

@@ -44,18 +44,12 @@ void AddGraphFlags(CLI::App& app, RefineFlags& f) {
       ->check(CLI::IsMember({"on", "off"}))->default_val("on");
   app.add_option("--prior-weight", g.prior.weight, "Feature prior in the unary: y = (1-w) mask + w q "
                  "(0 = the mask alone)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
-  app.add_option("--prior-width", g.prior.width, "Feature prior: robust sigmas below the removed median "
-                 "where q reaches 0")->capture_default_str();
-  app.add_option("--prior-full", g.prior.full, "Feature prior: robust sigmas below the removed median "
-                 "where q reaches 1")->capture_default_str();
-  app.add_flag("--prior-mixture", g.prior.mixture, "Feature prior: q from a 2-Gaussian mixture (exploration)");
-  app.add_option("--prior-direction", f.prior_direction, "Feature prior direction: contrast (removed - kept "
-                 "mean) | mean (removed mean)")->check(CLI::IsMember({"contrast", "mean"}))->default_val("contrast");
 }
 
 void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--threshold", f.threshold, "Decision: a number tau or percentile:P")->default_val("0.5");
-  app.add_flag("--restore", f.options.decision.restore, "Also let removed Gaussians with p < tau return");
+  app.add_flag("--restore,!--no-restore", f.options.decision.restore,
+               "Let removed Gaussians with p < tau return (default on; --no-restore: add only)");
   app.add_option("--min-segment-share", f.options.decision.min_segment_share,
                  "Segment rule: add only to graph components the method removed at least this share "
                  "of (0 = SPEC 5's plain rule)")
@@ -76,7 +70,6 @@ RefineOptions ToRefineOptions(const RefineFlags& f) {
   o.graph.delta_mode = f.delta_mode == "cosine" ? DeltaMode::kCosine : DeltaMode::kDistance;
   o.graph.spatial = f.spatial == "on";
   o.graph.centre_features = f.centre == "on";
-  o.graph.prior.contrast = f.prior_direction == "contrast";
   o.decision.rule = ParseDecisionRule(f.threshold);
   if (f.object_id != RefineFlags::kUnset) o.object_id = f.object_id;
   if (!f.solver_options.empty()) {

@@ -18,7 +18,6 @@ struct RefineFlags {
   std::string delta_mode = "distance";
   std::string spatial = "on";
   std::string centre = "on";
-  std::string prior_direction = "contrast";
   std::string threshold = "0.5";
   std::string solver_options;         // JSON text (only when AddSolverFlags was called)
   int object_id = kUnset;

@@ -40,19 +40,28 @@ Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object)
   return img;
 }
 
-Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted) {
+Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted,
+                    const RenderOutput* refined, const std::vector<bool>* restored) {
   Image8 img = RenderToRgb8(after);
-  static constexpr float kPink[3] = {255.f, 105.f, 180.f};
+  static constexpr float kPink[3] = {255.f, 105.f, 180.f}, kCyan[3] = {0.f, 200.f, 255.f};
   constexpr float kMix = 0.65f;
   std::size_t count = 0;
   const std::size_t n = std::size_t(after.width) * std::size_t(after.height);
-  for (std::size_t p = 0; p < n && p < after.front_id.size(); ++p) {
-    const std::int32_t id = after.front_id[p];
-    if (id < 0 || std::size_t(id) >= added.size() || !added[std::size_t(id)]) continue;
+  auto paint = [&](std::size_t p, const float* colour, const RenderOutput& base) {
     ++count;
     for (int c = 0; c < 3; ++c)
-      img.pixels[p * 3 + c] = std::uint8_t(std::lround((1 - kMix) * img.pixels[p * 3 + c] + kMix * kPink[c]));
+      img.pixels[p * 3 + c] = std::uint8_t(std::lround((1 - kMix) * To8(base.rgb[p * 3 + c]) + kMix * colour[c]));
+  };
+  for (std::size_t p = 0; p < n && p < after.front_id.size(); ++p) {
+    const std::int32_t id = after.front_id[p];
+    if (id >= 0 && std::size_t(id) < added.size() && added[std::size_t(id)]) paint(p, kPink, after);
   }
+  // The other direction: Gaussians the refinement gave back, seen in the refined render.
+  if (refined && restored && refined->width == after.width && refined->height == after.height)
+    for (std::size_t p = 0; p < n && p < refined->front_id.size(); ++p) {
+      const std::int32_t id = refined->front_id[p];
+      if (id >= 0 && std::size_t(id) < restored->size() && (*restored)[std::size_t(id)]) paint(p, kCyan, *refined);
+    }
   if (painted) *painted = count;
   return img;
 }

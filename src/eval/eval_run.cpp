@@ -115,11 +115,15 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
       EnsureDirectory(out / "depth" / c.name / "after");
     }
   }
-  // Gaussians each refinement added to the removal method's set (column 0), for the pink overlay.
-  std::vector<std::vector<bool>> added(nc);
+  // Gaussians each refinement added to (pink) or restored from (cyan) the method's set (column 0).
+  std::vector<std::vector<bool>> added(nc), restored(nc);
   for (std::size_t c = 1; c < nc; ++c) {
     added[c].resize(n);
-    for (std::size_t i = 0; i < n; ++i) added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
+    restored[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
+      restored[c][i] = !columns[c].removed[i] && columns[0].removed[i];
+    }
   }
   std::vector<bool> subset;
   if (object.masks_dir.empty()) {
@@ -250,7 +254,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
               DepthDiffImage(changed[c], object_mask));
         if (c > 0)
           write(images / (stem + (col == "refined" ? std::string() : "_" + col) + "_added.png"),
-                AddedOverlay(after[0], added[c]));
+                AddedOverlay(after[0], added[c], nullptr, &after[c], &restored[c]));
       }
     }
     if (o.export_renders) {

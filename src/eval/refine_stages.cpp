@@ -300,9 +300,28 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   return out;
 }
 
+nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<bool>& before,
+                                    const std::vector<bool>& after) {
+  std::size_t added = 0, added_object = 0, misses = 0, restored = 0, restored_background = 0, over = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const bool object = truth.labels[i] == truth.target;
+    misses += object && !before[i];
+    over += !object && before[i];
+    if (after[i] && !before[i]) ++added, added_object += object;
+    if (before[i] && !after[i]) ++restored, restored_background += !object;
+  }
+  auto ratio = [](std::size_t a, std::size_t b) { return b ? nlohmann::json(double(a) / double(b)) : nlohmann::json(nullptr); };
+  return {{"added", added}, {"added_object", added_object}, {"precision_added", ratio(added_object, added)},
+          {"misses", misses}, {"misses_recovered", ratio(added_object, misses)},
+          {"restored", restored}, {"restored_background", restored_background},
+          {"precision_restored", ratio(restored_background, restored)},
+          {"over_removed", over}, {"over_removed_restored", ratio(restored_background, over)}};
+}
+
 nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
                                        const std::vector<bool>& after) {
   return {{"object_id", truth.target},
+          {"change", RefinementChangeJson(truth, before, after)},
           {"before", ScoresToJson(fixtures::ScoreRemoval(before, truth.labels, truth.target,
                                                          truth.opacity_logits))},
           {"after", ScoresToJson(fixtures::ScoreRemoval(after, truth.labels, truth.target,

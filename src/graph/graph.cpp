@@ -57,14 +57,17 @@ Eigen::VectorXd SceneFeatureMean(const RowMatXf& features, const std::vector<std
 // mean and normalised again when asked (zero rows for zero norm, flagged); raw rows (colour).
 RowMatXf NodeFeatures(const RowMatXf& features, const std::vector<std::int64_t>& node_ids,
                       const std::vector<std::uint8_t>& active, const GraphOptions& o,
-                      std::vector<std::uint8_t>& zero_norm) {
+                      std::vector<std::uint8_t>& zero_norm, bool& centred) {
   const std::size_t V = node_ids.size();
   const Eigen::Index D = features.cols();
   RowMatXf out(Eigen::Index(V), D);
   zero_norm.assign(V, 0);
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
-  const bool centre = o.normalize_features && o.centre_features;
+  bool centre = o.normalize_features && o.centre_features;
   if (centre) mean = SceneFeatureMean(features, active);
+  // All features parallel: centring would leave nothing (and there is nothing to centre away).
+  if (centre && mean.norm() >= 1.0 - 1e-6) centre = false;
+  centred = centre;
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(static)
   for (std::int64_t v = 0; v < vv; ++v) {
@@ -203,10 +206,9 @@ GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
   // 4. Node features, the feature prior, gate and weights.
   stage.Reset();
   const int K = knn.k;
-  const RowMatXf nf = NodeFeatures(features, P.node_ids, active, options, out.zero_norm);
+  const RowMatXf nf = NodeFeatures(features, P.node_ids, active, options, out.zero_norm, st.centred);
   const Eigen::Index D = nf.cols();
   st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
-  st.centred = options.normalize_features && options.centre_features;
   if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
   auto xdist2 = [&](std::size_t u, std::size_t v) {
     double s = 0;

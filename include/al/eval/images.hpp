@@ -17,8 +17,11 @@ Image8 RenderToRgb8(const RenderOutput& render);
 Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object);
 
 // The "after" render with the pixels whose front-most blended Gaussian (RenderOutput::front_id) is
-// in `added` blended 65 % towards pink (255, 105, 180), as in the paper's refinement figures.
+// in `added` blended 65 % towards pink (255, 105, 180), as in the paper's refinement figures; with
+// `refined` and `restored`, also the pixels where the refined render's front Gaussian is one the
+// refinement restored, blended towards cyan (0, 200, 255) over the refined render's colour.
 // Returns the number of painted pixels through `painted` (may be null).
-Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr);
+Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr,
+                    const RenderOutput* refined = nullptr, const std::vector<bool>* restored = nullptr);
 
 }  // namespace al::eval

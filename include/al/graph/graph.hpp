@@ -28,8 +28,8 @@ struct GraphOptions {
   int hops = 1;                    // candidate growth repetitions
   // [project] Rounds of candidate growth where the cut keeps adding (refine stages: after each
   // solve, the candidate set also grows one hop around what was added; stops when the additions
-  // no longer change). 0 = the fixed candidate set of SPEC §4.2.
-  int grow_rounds = 0;
+  // no longer change; 8: docs/refine.md). 0 = the fixed candidate set of SPEC §4.2.
+  int grow_rounds = 8;
   double radius_scale = 1.0;       // r_i = max_k exp(scale_ik) · radius_scale
   int knn_checks = 0;              // 0 = exact kNN; > 0 approximate (FLANN checks)
   double kl_smoothing = 0.1;       // copied into the problem

@@ -84,8 +84,10 @@ struct GrownSolve {
 GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
                          const DecisionOptions& decision);
 
-// {"object_id", "before": {...}, "after": {...}} with precision/recall/F1/IoU by count and
-// opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...).
+// {"object_id", "before": {...}, "after": {...}, "change": {...}} with precision/recall/F1/IoU by
+// count and opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...); "change" says what the
+// refinement did: added (of them the object: precision_added; misses_recovered = share of the
+// method's misses added) and restored (of them background: precision_restored).
 nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
                                        const std::vector<bool>& after);
 
