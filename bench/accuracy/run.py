@@ -112,9 +112,6 @@ def main():
 
     def one(item):
         sc, mask, method, kind, name, solver, flags = item
-        if sc.name not in data_by_scene:
-            folder = scenes.ensure_scene(sc, args.cache, args.n, args.bin, gen_script)
-            data_by_scene[sc.name] = runner.SceneData(folder)
         data = data_by_scene[sc.name]
         path = sc.mask_path(data.folder, mask)
         if kind == "al":
@@ -132,6 +129,11 @@ def main():
         by_scene.setdefault(it[0].name, []).append(it)
     with open(log, "a") as fh, ThreadPoolExecutor(max(1, args.jobs)) as pool:
         for k, (name, items) in enumerate(by_scene.items()):
+            # Generated and loaded here, before the runs of the scene go to the pool.
+            sc = items[0][0]
+            data_by_scene[name] = runner.SceneData(scenes.ensure_scene(sc, args.cache, args.n, args.bin, gen_script))
+            if any(it[3] == "baseline" for it in items):
+                data_by_scene[name].graph()
             for rec in pool.map(one, items):
                 fh.write(json.dumps(rec) + "\n")
                 fh.flush()

@@ -241,7 +241,9 @@ GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options
     std::vector<std::size_t> fresh;  // added now, not yet grown around
     for (std::size_t i = 0; i < removed.size(); ++i)
       if (r.outcome.refined[i] && !removed[i] && !grown[i]) fresh.push_back(i);
-    if (fresh.empty()) break;
+    // A trickle at the border is not worth another graph: grow only while the round added at
+    // least 0.5 % of the removed count (and at least one Gaussian).
+    if (fresh.empty() || fresh.size() * 200 < inputs.removal.num_removed) break;
     if (round >= options.grow_rounds) {
       r.capped = true;
       break;

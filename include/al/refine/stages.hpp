@@ -70,9 +70,9 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
                             const DecisionOptions& decision);
 
 // Builds the graph and solves it. With options.grow_rounds > 0 the candidate set then also grows
-// one hop around every Gaussian the cut added, and the enlarged graph is solved again, until the
-// added set stops changing or the rounds run out (`capped`, a warning). The observations always
-// come from the input mask.
+// one hop around every Gaussian the cut added, and the enlarged graph is solved again, until a
+// round adds fewer new Gaussians than 0.5 % of the removed count or the rounds run out (`capped`,
+// a warning). The observations always come from the input mask.
 struct GrownSolve {
   GraphResult graph;                  // the last graph solved
   SolveOutcome outcome;
