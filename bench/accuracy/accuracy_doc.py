@@ -1,4 +1,6 @@
 """docs/accuracy.md from the accuracy bench's records (numbers are never typed by hand)."""
+import os
+
 import report
 
 TODAY = "today"  # the model before issue 13 (run as a config; see HEADER)
@@ -14,8 +16,8 @@ Date {date}, commit {commit}.
 with the default flags and with `--auto` (solvers bk and cp), the numpy baselines B1-B3 of issue 13
 (`bench/accuracy/baselines.py`: B1 kNN vote, B2 region growing, B3 min cut on the 2-hop dilation with
 centred-cosine weights; B1/B2 with the issue's parameters, B3's λ = 1 chosen on the tuning half from
-0.1, 0.25, 0.5, 1), and `today`: the model before this change (`--prior-weight 0 --centre off
---grow-rounds 0 --no-restore --min-segment-share 0.667`, with today's presets' features).
+0.1, 0.25, 0.5, 1), and `today`: al-refine as it was before issue 13 (commit 0a8b341, its
+default flags plus `--removed-is removed`; `run.py --today-bin`).
 
 **Scenes.** Two independent sources, 60,000 Gaussians each:
 - `gen`: `../shared/scenes/gen_scenes.py`, styles d16 (D = 16), d32 (D = 32), clip128 and clip512
@@ -108,6 +110,43 @@ def synth_rows(records):
     return out
 
 
+README_BEGIN, README_END = "<!-- accuracy table: bench/accuracy/run.py -->", "<!-- /accuracy table -->"
+
+
+def readme_table(records):
+    """The README's one table: per source x method, the default (bk) beside the best baseline."""
+    rep = [r for r in records if r["half"] == "report"]
+    lines = ["| source | method | scenes | F1 raised | mean ΔF1 | misses recovered | precision added | "
+             "restored (precision) | best baseline ΔF1 |", "|---|---|---|---|---|---|---|---|---|"]
+    for (source, mask), recs in sorted(report.group(rep, ("source", "mask")).items()):
+        d = report.stats([r for r in recs if r["config"] == "default" and r["solver"] == "bk"])
+        if not d["scenes"]:
+            continue
+        base = {c: report.stats(v)["mean dF1"] for (c,), v in report.group(
+            [r for r in recs if r["solver"] == "-"], ("config",)).items()}
+        best = max(base, key=lambda c: base[c]) if base else None
+        restored = f"{report.fmt(d['restored'], 'restored')} ({report.fmt(d['precision restored'], 'precision restored')})"
+        lines.append(f"| {source} | {mask} | {d['scenes']} | {report.fmt(d['raised'], 'raised')} | "
+                     f"{report.fmt(d['mean dF1'], 'd')} | {report.fmt(d['misses recovered'], 'misses recovered')} | "
+                     f"{report.fmt(d['precision added'], 'precision added')} | {restored} | "
+                     + (f"{best} {base[best]:+.4f}" if best else "-") + " |")
+    return "\n".join(lines)
+
+
+def update_readme(records, path):
+    """Replaces the table between the README's markers (left alone when the markers are missing)."""
+    if not os.path.exists(path):
+        return
+    with open(path) as fh:
+        text = fh.read()
+    a, b = text.find(README_BEGIN), text.find(README_END)
+    if a < 0 or b < a:
+        return
+    text = text[:a + len(README_BEGIN)] + "\n" + readme_table(records) + "\n" + text[b:]
+    with open(path, "w") as fh:
+        fh.write(text)
+
+
 def write(records, meta, path):
     rep = [r for r in records if r["half"] == "report"]
     parts = [HEADER.format(date=meta["date_utc"], commit=meta["commit"]),
@@ -124,6 +163,7 @@ def write(records, meta, path):
     parts.append(NOTES)
     with open(path, "w") as fh:
         fh.write("\n\n".join(parts) + "\n")
+    update_readme(records, os.path.join(os.path.dirname(path), "..", "README.md"))
 
 
 NOTES = """## Notes

@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """The gen_scenes.py half of ctest's accuracy regression (tests/cli/accuracy_gen_scenes.sh; the
-al-refine synth half is tests/eval/refine_accuracy_test.cpp). Small scenes of three styles are
+al-refine synth half is tests/refine/refine_accuracy_test.cpp). Small scenes of three styles are
 generated at test time (fixed seeds from the reporting half, 12,000 Gaussians) and refined with the
 default flags, bk and cp; the properties the accuracy bench reports (docs/accuracy.md) must hold:
 

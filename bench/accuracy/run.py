@@ -2,7 +2,7 @@
 """Accuracy benchmark of refinement (issue 13): does al-refine recover what a removal method left
 behind, on scenes it was never tuned on? See docs/accuracy.md for what it measures and the results.
 
-usage: bench/accuracy/run.py [--quick] [--halves report|tune|tune,report] [--sources gen,synth]
+usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves report|tune|tune,report] [--sources gen,synth]
                              [--styles d16,...] [--solvers bk,cp] [--configs default,auto]
                              [--config NAME=FLAGS ...] [--baselines B1,B2,B3|none] [--n 60000]
                              [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
@@ -45,6 +45,9 @@ def parse_args():
     ap.add_argument("--n", type=int, default=60000)
     ap.add_argument("--max-seeds", type=int, default=0, help="at most this many seeds per style and half")
     ap.add_argument("--bin", default=os.path.join(REPO, "build", "al-refine"))
+    ap.add_argument("--today-bin", default=os.environ.get("AL_ACCURACY_TODAY_BIN", ""),
+                    help="an al-refine built before issue 13 (e.g. commit 0a8b341): adds the config "
+                         "'today' = its default flags, the comparison of the synth targets")
     ap.add_argument("--cache", default=os.environ.get("AL_ACCURACY_CACHE", os.path.join(REPO, "build", "accuracy-scenes")))
     ap.add_argument("--work", default="")
     ap.add_argument("--jobs", type=int, default=1)
@@ -58,6 +61,9 @@ def plan(args):
     configs = {}
     for name in filter(None, args.configs.split(",")):
         configs[name] = BUILTIN_CONFIGS[name]
+    if args.today_bin:
+        # A mask is the removed set (that binary read gg's bool masks as the remaining set).
+        configs["today"] = ["--removed-is", "removed"]
     for item in args.config:
         name, _, flags = item.partition("=")
         configs[name] = flags.split()
@@ -115,7 +121,8 @@ def main():
         data = data_by_scene[sc.name]
         path = sc.mask_path(data.folder, mask)
         if kind == "al":
-            rec = runner.run_al_refine(args.bin, data, path, method, solver, flags)
+            binary = args.today_bin if name == "today" else args.bin
+            rec = runner.run_al_refine(binary, data, path, method, solver, flags)
         else:
             rec = runner.run_baseline(name.partition(":")[0], data, path, flags)
         rec.update({"id": run_id(item, args.n), "source": sc.source, "style": sc.style, "seed": sc.seed, "half": sc.half,

@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/graph/problem.hpp"
 
 namespace al {
@@ -34,6 +35,9 @@ struct DecisionOptions {
   // default). An earlier default (2/3) held back every addition where the whole candidate graph
   // is one segment the method removed only partly (docs/refine.md: what did not transfer).
   double min_segment_share = 0.0;
+
+  static const OptionTable<DecisionOptions>& Table();  // threshold, restore, min_segment_share
+  void Check() const { Table().Check(*this); }
 };
 
 struct DecisionResult {

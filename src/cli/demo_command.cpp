@@ -46,6 +46,9 @@ class DemoCommand : public Command {
     const fs::path out(out_), scene_dir = out / "scene";
     Timer total, t;
 
+    // The page to open first: everything below in one place (written by eval at the end).
+    const std::string page = fs::absolute(out / "eval" / "report.html").lexically_normal().string();
+    std::printf("report: %s\n", page.c_str());
     // 1. The scene, its ground truth, object masks and the simulated removals.
     std::printf("demo: generating a %s scene with %zu Gaussians, %d views %dx%d ...\n", synth_.preset.c_str(),
                 synth_.num_gaussians, synth_.num_views, synth_.width, synth_.height);
@@ -139,6 +142,7 @@ class DemoCommand : public Command {
       if (r.result.exit_code != 0) std::printf("note: refine with %s: %s\n", r.solver.c_str(), r.result.message.c_str());
     std::printf("timings: synth %.1f s, refine bk %.1f s, cp %.1f s, eval %.1f s (render %.1f, metrics %.1f, io %.1f)\n",
                 synth_s, runs[0].seconds, runs[1].seconds, eval_s, er.seconds_render, er.seconds_metrics, er.seconds_io);
+    std::printf("open first: %s (summary, every view side by side, residual and added overlays)\n", page.c_str());
     std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk, cyan: restored)\n",
                 (out / "eval" / "images").string().c_str());
     std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (out / "eval" / "table.md").string().c_str(),
@@ -164,7 +168,7 @@ class DemoCommand : public Command {
     report["outputs"] = {{"scene", scene_dir.string()},
                          {"refine_bk", (out / "refine_bk").string()},
                          {"refine_cp", (out / "refine_cp").string()},
-                         {"eval", (out / "eval").string()}};
+                         {"eval", (out / "eval").string()}, {"report_html", page}};
     WriteReport(out, report);
     return 0;
   }

@@ -14,9 +14,11 @@
 #include "al/eval/eval.hpp"
 #include "al/eval/images.hpp"
 #include "al/eval/output.hpp"
+#include "al/eval/records.hpp"
+#include "al/eval/report_html.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
-#include "al/fixtures/synth.hpp"
+#include "al/metrics/removal_scores.hpp"
 #include "al/io/image.hpp"
 #include "al/metrics/collateral.hpp"
 #include "al/metrics/mask_io.hpp"
@@ -70,6 +72,31 @@ void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std:
       throw Error("eval: no Gaussian has object id " + std::to_string(object.object_id) + " in the labels");
   }
   if (!(o.ght.nu >= 0) || !(o.ght.tau >= 0)) throw Error("eval: GHT nu and tau must be >= 0", ExitCode::kUsage);
+  if (const std::string problem = o.trust.Check(); !problem.empty()) throw Error("eval: " + problem, ExitCode::kUsage);
+}
+
+// acc_Δdepth of one column in both modes (METRICS.md §4–§6) with the trust flags; the 8-bit pair
+// and its change mask are kept for the pictures and the depth PNGs.
+void ScoreDepth(const metrics::DepthRender& before, const metrics::DepthRender& after, const metrics::Mask& object,
+                const EvalOptions& o, ColumnViewMetrics& m, metrics::Depth8Pair& pair, metrics::Mask& changed8) {
+  pair = metrics::DepthTo8Bit(before, after, o.float_depth.alpha_hit);
+  const metrics::DepthChange ch8 = metrics::DepthChange8Bit(pair.before, pair.after, o.ght, o.depth_holes);
+  m.depth8 = metrics::ScoreDepthChange(&object, ch8.changed);
+  m.threshold8 = ch8.threshold;
+  m.constant8 = ch8.constant;
+  m.trust8 = metrics::AssessDepthTrust(&object, ch8, o.trust);
+  m.holes_before8 = ch8.holes_before;
+  m.holes_after8 = ch8.holes_after;
+  changed8 = ch8.changed;
+  metrics::FloatDepthOptions fo = o.float_depth;
+  fo.ght = o.ght;
+  fo.holes = o.depth_holes;
+  const metrics::DepthChange chf = metrics::DepthChangeFloat(before, after, fo);
+  m.depth_float = metrics::ScoreDepthChange(&object, chf.changed);
+  m.threshold_float = chf.threshold;
+  m.trust_float = metrics::AssessDepthTrust(&object, chf, o.trust);
+  m.holes_before_float = chf.holes_before;
+  m.holes_after_float = chf.holes_after;
 }
 
 }  // namespace
@@ -115,16 +142,18 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
       EnsureDirectory(out / "depth" / c.name / "after");
     }
   }
-  // Gaussians each refinement added to (pink) or restored from (cyan) the method's set (column 0).
+  // Gaussians each refinement added to the removal method's set (column 0), for the pink overlay.
+  // Restored: in the method's set, returned to the scene by the refinement (cyan in the overlay).
   std::vector<std::vector<bool>> added(nc), restored(nc);
   for (std::size_t c = 1; c < nc; ++c) {
     added[c].resize(n);
     restored[c].resize(n);
     for (std::size_t i = 0; i < n; ++i) {
       added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
-      restored[c][i] = !columns[c].removed[i] && columns[0].removed[i];
+      restored[c][i] = columns[0].removed[i] && !columns[c].removed[i];
     }
   }
+  json view_images = json::array();  // report.html's pictures per evaluated view
   std::vector<bool> subset;
   if (object.masks_dir.empty()) {
     subset.resize(n);
@@ -209,18 +238,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     for (std::size_t c = 0; c < nc; ++c) {
       ColumnViewMetrics m;
       m.tiles_rendered = after[c].tiles_rendered;
-      const metrics::DepthRender depth_after = ToDepthRender(after[c]);
-      pairs[c] = metrics::DepthTo8Bit(depth_before, depth_after, o.float_depth.alpha_hit);
-      const metrics::DepthChange ch8 = metrics::DepthChange8Bit(pairs[c].before, pairs[c].after, o.ght);
-      m.depth8 = metrics::ScoreDepthChange(&object_mask, ch8.changed);
-      m.threshold8 = ch8.threshold;
-      m.constant8 = ch8.constant;
-      changed[c] = ch8.changed;
-      metrics::FloatDepthOptions fo = o.float_depth;
-      fo.ght = o.ght;
-      const metrics::DepthChange chf = metrics::DepthChangeFloat(depth_before, depth_after, fo);
-      m.depth_float = metrics::ScoreDepthChange(&object_mask, chf.changed);
-      m.threshold_float = chf.threshold;
+      ScoreDepth(depth_before, ToDepthRender(after[c]), object_mask, o, m, pairs[c], changed[c]);
       const metrics::CollateralPsnr psnr = metrics::ComputeCollateralPsnr(rgb_before, ToRgbImage(after[c]), &object_mask);
       m.collateral_psnr = psnr.psnr;
       m.identical = psnr.identical;
@@ -246,16 +264,31 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     std::vector<std::pair<fs::path, Image8>> jobs;
     auto write = [&](const fs::path& path, Image8 img) { jobs.emplace_back(path, std::move(img)); };
     if (o.write_images) {
-      write(images / (stem + "_before.png"), RenderToRgb8(before));
+      json pictures = json::array();
+      auto picture = [&](const std::string& key, const std::string& label, const std::string& file, Image8 img) {
+        write(images / file, std::move(img));
+        pictures.push_back({{"key", key}, {"label", label}, {"src", "images/" + file}});
+      };
+      picture("before", "before", stem + "_before.png", RenderToRgb8(before));
+      for (std::size_t c = 0; c < nc; ++c)
+        picture(columns[c].name, columns[c].label, stem + "_" + columns[c].name + ".png", RenderToRgb8(after[c]));
       for (std::size_t c = 0; c < nc; ++c) {
         const std::string& col = columns[c].name;
-        write(images / (stem + "_" + col + ".png"), RenderToRgb8(after[c]));
-        write(images / (stem + (c == 0 ? std::string() : "_" + col) + "_depthdiff.png"),
-              DepthDiffImage(changed[c], object_mask));
-        if (c > 0)
-          write(images / (stem + (col == "refined" ? std::string() : "_" + col) + "_added.png"),
-                AddedOverlay(after[0], added[c], nullptr, &after[c], &restored[c]));
+        picture(col + "_residual", columns[c].label + ": residual", stem + "_" + col + "_residual.png",
+                ResidualOverlay(after[c], object_mask, changed[c]));
       }
+      for (std::size_t c = 1; c < nc; ++c) {
+        const std::string& col = columns[c].name;
+        Image8 overlay = AddedOverlay(after[0], added[c]);
+        PaintRestored(overlay, after[c], restored[c]);
+        picture(col + "_added", columns[c].label + ": added / restored",
+                stem + (col == "refined" ? std::string() : "_" + col) + "_added.png", std::move(overlay));
+      }
+      for (std::size_t c = 0; c < nc; ++c)
+        picture(columns[c].name + "_depthdiff", columns[c].label + ": depth change",
+                stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_depthdiff.png",
+                DepthDiffImage(changed[c], object_mask));
+      view_images.push_back({{"view", cam.name}, {"images", std::move(pictures)}});
     }
     if (o.export_renders) {
       write(out / "renders" / "before" / (stem + ".png"), RenderToRgb8(before));
@@ -289,8 +322,9 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     for (const ViewRecord& v : r.views) {
       if (!v.evaluated) continue;
       const ColumnViewMetrics& m = v.columns[c];
-      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8});
-      df.push_back({v.name, m.depth_float, m.threshold_float, false});
+      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8, m.trust8, m.holes_before8, m.holes_after8});
+      df.push_back({v.name, m.depth_float, m.threshold_float, false, m.trust_float, m.holes_before_float,
+                    m.holes_after_float});
       if (m.collateral_psnr) psnr.push_back(*m.collateral_psnr);
       s.identical += m.identical;
       if (m.semantic) sem.push_back(*m.semantic);
@@ -330,7 +364,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   for (std::size_t c = 0; c < nc; ++c) {
     json j = ColumnSummaryJson(columns[c], r.summaries[c], o);
     if (!object.labels.empty() && object.labels.size() == n)
-      j["gt"] = fixtures::ScoreRemoval(columns[c].removed, object.labels, object.object_id,
+      j["gt"] = ScoreRemoval(columns[c].removed, object.labels, object.object_id,
                                        std::vector<float>(scene.opacity_logits.data(),
                                                           scene.opacity_logits.data() + scene.opacity_logits.size()))
                     .ToJson();
@@ -348,7 +382,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   WriteFileAtomically(out / "metrics.csv", MetricsCsv(columns, r));
   WriteFileAtomically(out / "table.md", TableMarkdown(table));
   WriteFileAtomically(out / "table.tex", TableLatex(table));
-  r.outputs = {"report.json", "metrics.csv", "table.md", "table.tex"};
+  r.outputs = {"report.json", "report.html", "metrics.csv", "table.md", "table.tex"};
   if (o.write_images) r.outputs.push_back("images/");
   if (o.write_depth_pngs) {
     r.outputs.push_back("masks/");
@@ -366,6 +400,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   timings["io"] = r.seconds_io;
   timings["eval_total"] = r.seconds_total;
   WriteReport(out, report);
+  WriteFileAtomically(out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), view_images));
   staging.Commit();
   r.report = std::move(report);
   return r;

@@ -39,7 +39,7 @@ std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
 // Mean of the L2-normalised feature rows of the active Gaussians: a strided sample of at most
 // 65,536 rows (a common component is a property of the whole field, so a sample finds it, and
 // the cost stays bounded on million-Gaussian scenes). Sequential sum: thread-count independent.
-Eigen::VectorXd SceneFeatureMean(const RowMatXf& features, const std::vector<std::uint8_t>& active) {
+Eigen::VectorXd SceneFeatureMean(Eigen::Ref<const RowMatXf> features, const std::vector<std::uint8_t>& active) {
   const Eigen::Index N = features.rows(), D = features.cols();
   const Eigen::Index stride = std::max<Eigen::Index>(1, (N + 65535) / 65536);
   Eigen::VectorXd sum = Eigen::VectorXd::Zero(D);
@@ -55,7 +55,7 @@ Eigen::VectorXd SceneFeatureMean(const RowMatXf& features, const std::vector<std
 
 // The nodes' feature rows as the gate and the prior see them: unit rows, centred on the scene
 // mean and normalised again when asked (zero rows for zero norm, flagged); raw rows (colour).
-RowMatXf NodeFeatures(const RowMatXf& features, const std::vector<std::int64_t>& node_ids,
+RowMatXf NodeFeatures(Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids,
                       const std::vector<std::uint8_t>& active, const GraphOptions& o,
                       std::vector<std::uint8_t>& zero_norm, bool& centred) {
   const std::size_t V = node_ids.size();
@@ -98,7 +98,7 @@ RowMatXf ColourFeatures(const Scene& scene) {
   return rgb;
 }
 
-GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
                              const std::vector<bool>& removed, const GraphOptions& options,
                              const std::vector<std::uint8_t>* extra_seeds) {
   Timer total;

@@ -15,8 +15,15 @@ namespace {
 constexpr double kCreditFull = 0.0, kCreditZero = 2.0;
 // A removed Gaussian is doubted only when the method kept a clear majority (two thirds) of its
 // group: at a bare majority, object parts whose features lean toward a neighbour (CLIP-like
-// fields, D = 512) were given back (docs/refine.md).
-constexpr double kDoubtRemoved = 1.0 / 3.0;
+// fields, D = 512) were given back (docs/refine.md). The doubt fades out linearly between a
+// removal rate of 1/3 and 0.4 (and a kept Gaussian's credit fades in between 0.45 and 1/2): a
+// hard step made two nearly equal graphs (bk and cp after different growth rounds, rates 0.334
+// and 0.326) restore 25 or 225 Gaussians.
+constexpr double kDoubtRemovedFull = 1.0 / 3.0, kDoubtRemovedZero = 0.4;
+constexpr double kDoubtKeptZero = 0.45, kDoubtKeptFull = 0.5;
+
+// 1 at `full`, 0 at `zero`, linear between (either order).
+double Ramp(double x, double zero, double full) { return std::clamp((x - zero) / (full - zero), 0.0, 1.0); }
 
 double MedianOf(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -122,15 +129,16 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   const double full = st.median_removed - kCreditFull * st.sigma_removed;
   const double zero = st.median_removed - kCreditZero * st.sigma_removed;
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
-  const bool doubt_removed = st.removal_rate_lower < kDoubtRemoved, doubt_kept = st.removal_rate_upper >= 0.5;
+  const double doubt_removed = Ramp(st.removal_rate_lower, kDoubtRemovedZero, kDoubtRemovedFull);
+  const double doubt_kept = Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull);
   for (std::size_t v = 0; v < V; ++v) {
     if (!has[v]) continue;
     // Within the removed set's own spread a Gaussian looks like the removed ones: credit for a
     // kept one, no doubt for a removed one (whatever group the mixture put it in).
     const double within = std::clamp((c[v] - zero) / (full - zero), 0.0, 1.0);
     double q = mask[v];
-    if (mask[v] >= 0.5 && doubt_removed) q = std::max(upper[v], within);
-    if (mask[v] < 0.5 && doubt_kept) q = std::min(upper[v], within);
+    if (mask[v] >= 0.5) q += doubt_removed * (std::max(upper[v], within) - q);
+    else q += doubt_kept * (std::min(upper[v], within) - q);
     y[v] = (1.0 - o.weight) * mask[v] + o.weight * q;
     st.removed_doubted += mask[v] >= 0.5 && q < 0.5;
     st.kept_doubted += mask[v] < 0.5 && q > 0.5;

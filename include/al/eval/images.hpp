@@ -17,11 +17,17 @@ Image8 RenderToRgb8(const RenderOutput& render);
 Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object);
 
 // The "after" render with the pixels whose front-most blended Gaussian (RenderOutput::front_id) is
-// in `added` blended 65 % towards pink (255, 105, 180), as in the paper's refinement figures; with
-// `refined` and `restored`, also the pixels where the refined render's front Gaussian is one the
-// refinement restored, blended towards cyan (0, 200, 255) over the refined render's colour.
+// in `added` blended 65 % towards pink (255, 105, 180), as in the paper's refinement figures.
 // Returns the number of painted pixels through `painted` (may be null).
-Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr,
-                    const RenderOutput* refined = nullptr, const std::vector<bool>* restored = nullptr);
+Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr);
+
+// The residual overlay of report.html: `render` with the object's pixels whose depth did not change
+// (object and not changed; `object` resized to the change mask's size with the exact rule) blended
+// 60 % towards red (230, 20, 20): what is left of the object.
+Image8 ResidualOverlay(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& changed);
+
+// Paints, in place, the pixels of `image` whose front-most Gaussian in `render` (the render that
+// shows them, i.e. without the refinement's removal) is in `restored`, 65 % towards cyan (0, 200, 230).
+void PaintRestored(Image8& image, const RenderOutput& render, const std::vector<bool>& restored);
 
 }  // namespace al::eval

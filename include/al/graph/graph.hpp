@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/graph/prior.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
@@ -42,6 +43,10 @@ struct GraphOptions {
   bool centre_features = true;
   // [project] The unary's feature prior (al/graph/prior.hpp); weight 0 = y from the mask alone.
   PriorOptions prior;
+
+  // The user-settable fields (normalize_features is set by the feature source, not by users).
+  static const OptionTable<GraphOptions>& Table();
+  void Check() const;  // the table's ranges, and delta in [-1, 1] in cosine mode
 };
 
 struct GraphStats {
@@ -78,7 +83,7 @@ struct GraphResult {
 // extra_seeds (N, optional): more Gaussians the candidate set grows from (candidate growth of
 // the refine stages: what a previous cut added); they are candidates, their observation stays
 // the mask's. Throws al::Error on size mismatches or bad options.
-GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
                              const std::vector<bool>& removed, const GraphOptions& options = {},
                              const std::vector<std::uint8_t>* extra_seeds = nullptr);
 

@@ -10,7 +10,8 @@
 // candidates from the kept ones (mean_R − mean_kept); a two-Gaussian mixture is fitted to that
 // projection by EM (started from the mask), giving each candidate's probability of belonging to
 // the upper ("object") group. Each group's removal rate (its share of removed candidates) is the
-// mask's verdict on it, and a label is doubted only where the group's majority disagrees:
+// mask's verdict on it, and a label is doubted only where the group's majority disagrees (the
+// doubt fades in over a short range of removal rates, never a step: prior.cpp):
 //  - a removed Gaussian only if its group is the lower one, the method kept at least two thirds
 //    of that group (GG's hull takes part of the table top: restore it) and its projection lies
 //    below the removed set's own spread; a group the method took whole (a look-alike it grabbed,

@@ -106,7 +106,16 @@ PointEvalSetup MakePointEvalSetup(const std::string& cameras, const std::string&
 // Renders before / after `removed` (no images written) and returns the means over the evaluated
 // views: {acc_delta_depth (8-bit, published), acc_delta_depth_float, collateral_depth (fraction of
 // non-object pixels whose depth changed), collateral_psnr, views_evaluated, views_skipped}.
+// Also: views_flagged_float and views[] = {view, acc_delta_depth_float, collateral_depth,
+// flags_float} (the float-mode trust flags of docs/metrics.md, per evaluated view).
 nlohmann::json EvaluatePoint(const Scene& scene, const PointEvalSetup& setup, const std::vector<bool>& removed);
+
+// The "eval" criterion of `refine --auto` on views no candidate may game: acc_delta_depth_float
+// averaged over the views that no evaluation flags (the same views for every candidate, so a
+// candidate cannot win by getting a bad view flagged), minus collateral_depth over all evaluated
+// views (damage counts everywhere). Writes score_views and acc_delta_depth_float_trusted into each
+// evaluation. nullopt when every view is flagged somewhere: the criterion cannot be used.
+std::optional<std::vector<double>> TrustedViewScores(const std::vector<nlohmann::json*>& evals);
 
 struct SweepProgress {
   std::size_t position = 0, count = 0;  // 1-based position among this run's points
@@ -122,6 +131,7 @@ struct SweepOptions {
   nlohmann::json solver_options = nlohmann::json::object();  // {solver name: options}
   std::string eval_views = "all";      // views evaluated when a scene has cameras
   std::function<void(const SweepProgress&)> on_point;        // progress (one call per point)
+  bool dry_run = false;                // check options, every scene's inputs and out_dir; run and write nothing
 };
 
 struct SweepResult {
@@ -136,7 +146,8 @@ struct SweepResult {
 // Runs the shard's points not yet in out_dir/results.jsonl, appending one flushed line per point
 // (a killed run loses at most the point it was computing), then rewrites results.csv, the charts
 // and report.json from every record in results.jsonl. Validates options and inputs (al::Error)
-// before appending anything.
+// before appending anything, writes out_dir/shard.json (ShardInfo) before the first point and
+// refuses an out_dir whose shard.json is another sweep's or shard's.
 SweepResult RunSweep(const SweepOptions& options);
 
 // ---- results.jsonl and the derived outputs (shared by sweep and merge)
@@ -163,23 +174,108 @@ nlohmann::json RecordWithoutTimings(const nlohmann::json& record);
 // results.csv: one row per record, fixed columns (empty cells where a value is absent).
 std::string ResultsCsv(const std::vector<nlohmann::json>& records);
 
-// Writes results.csv and the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
-// F1 over k × δ, one panel per λ; charts = false: the CSV only) for the records into dir. Returns
-// {"csv", "charts": [...], "skipped_charts": [{name, reason}]} for the report.
+// Writes results.csv, the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
+// F1 over k × δ, one panel per λ; charts = false: none) and report.html for the records into dir.
+// Returns {"csv", "charts": [...], "skipped_charts": [{name, reason}], "html"} for the report.
 nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records,
                                    bool charts = true);
 
-// ---- merge
+// One setting (the grid parameters without the scene) averaged over the scenes that have
+// ground-truth F1: mean run time (graph build + solve) and mean error 1 − F1.
+struct ParetoPoint {
+  std::string solver, label;    // label: "k=10 d=0.8 l=1" (h= when hops != 1)
+  nlohmann::json params;        // the setting's parameters (of one of its records)
+  double seconds = 0, error = 0;
+  int scenes = 0;
+  bool on_front = false;        // no other setting is both at least as fast and more accurate
+};
+std::vector<ParetoPoint> ParetoPoints(const std::vector<nlohmann::json>& records);
 
-struct MergeResult {
-  std::size_t records = 0, duplicates = 0, conflicts = 0;
-  std::vector<std::string> warnings;
-  nlohmann::json report;
+// report.html of sweep / merge (docs/sweep.md): the charts WriteSweepSummaries drew (`summaries`
+// = its result), the Pareto table (front first), the best settings per scene and the skipped charts.
+// One self-contained page (al/core/html.hpp) beside results.csv.
+std::string SweepReportHtml(const std::vector<nlohmann::json>& records, const nlohmann::json& summaries);
+
+// ---- shard.json: which sweep an output folder is a slice of
+
+// Written by RunSweep into --out before its first point, so that even a killed shard says which
+// sweep it belongs to. merge refuses folders whose sweeps differ; sweep refuses to resume a folder
+// of another sweep (except an unsharded run whose grid grew).
+struct ShardInfo {
+  Shard shard;
+  std::size_t points_total = 0;          // scenes × grid points
+  std::size_t first = 0, end = 0;        // this shard's jobs [first, end) (ShardRange)
+  nlohmann::json grid;                   // the axes (GridToJson)
+  nlohmann::json scenes;                 // per scene: name, fixed refine flags, inputs (absolute
+                                         // path, bytes, sha256 for files up to 64 MiB)
+  nlohmann::json fixed;                  // sweep-wide flags: solver_options, eval_views
+  nlohmann::json binary;                 // {version, sha256 of the executable}
+  nlohmann::json ToJson() const;
+  std::size_t points_in_shard() const { return end - first; }
 };
 
-// Combines the results.jsonl of shard directories into out_dir: deduplicated by id (first
-// occurrence wins; a duplicate whose non-timing content differs is counted as a conflict and
-// warned about), canonical order, results.csv, charts, report.json.
-MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+nlohmann::json GridToJson(const SweepGrid& grid);
+SweepGrid GridFromJson(const nlohmann::json& grid);  // throws al::Error (bad input)
+
+// The identity of options' sweep and shard (hashes the scenes' inputs of up to 64 MiB).
+ShardInfo MakeShardInfo(const SweepOptions& options);
+
+// DIR/shard.json. Throws al::Error (bad input) naming the folder when it is absent or malformed.
+ShardInfo ReadShardInfo(const std::string& dir);
+void WriteShardInfo(const std::string& dir, const ShardInfo& info);
+
+// What differs between the sweeps of a and b, one entry per group in the order shard count, grid,
+// scenes, fixed flags, binary, each with its first differing value: "grid (k: [6,10] vs [6,14])".
+// Empty when a and b are slices of one sweep (their shard indices may differ).
+std::vector<std::string> SweepDifferences(const ShardInfo& a, const ShardInfo& b);
+
+// The point ids of jobs [first, end) of info's sweep (scenes outermost, then EnumeratePoints).
+std::vector<std::string> SweepPointIds(const ShardInfo& info, std::size_t first, std::size_t end);
+
+// ---- merge
+
+struct MergeOptions {
+  std::vector<std::string> shard_dirs;   // sweep outputs, each with shard.json and results.jsonl
+  std::string out_dir;                   // required unless check_only
+  bool allow_partial = false;            // merge an incomplete set (report: complete false)
+  bool check_only = false;               // only report the set's status; write nothing
+  void Check() const;                    // al::Error (usage)
+};
+
+// One shard folder given to merge.
+struct MergedShard {
+  std::string dir;
+  Shard shard;
+  std::size_t points_in_shard = 0;
+  std::size_t points_found = 0;          // this folder's records that are points of its slice
+  std::size_t records = 0;
+  bool truncated_tail = false;           // a killed writer's half line at the end
+  nlohmann::json ToJson() const;
+};
+
+struct MergeResult {
+  bool complete = false;                 // every shard present and every point found
+  bool written = false;                  // out_dir written (complete, or allow_partial)
+  int exit_code = 0;                     // 0, or 2 for an incomplete set without allow_partial
+  std::string message;                   // why the exit code is not 0
+  std::size_t shard_count = 0, points_total = 0, points_found = 0;
+  std::size_t records = 0, duplicates = 0, conflicts = 0;
+  std::size_t foreign_records = 0;       // ids that are not points of the sweep (left out)
+  std::vector<MergedShard> shards;       // in the order given
+  std::vector<std::size_t> missing_shards;     // indices no folder was given for
+  std::vector<std::size_t> incomplete_shards;  // indices with a point not found (missing ones too)
+  std::vector<std::string> warnings;
+  nlohmann::json report;                 // exactly what was written to report.json (when written)
+  std::string BriefReport() const;       // status lines, incl. "incomplete shards: 1 4" when any
+};
+
+// Combines the results.jsonl of shard folders into out_dir. First checks that every folder is a
+// shard of one sweep (shard.json: shard count, grid, scenes, fixed flags, binary; al::Error exit 2
+// naming what differs), then which shards and points are missing. An incomplete set is written
+// only with allow_partial (report.json: complete false); otherwise nothing is written and
+// exit_code is 2. Records are deduplicated by id (first occurrence wins; a duplicate whose
+// non-timing content differs is a conflict and warned about), in canonical order, with
+// results.csv, charts and report.json.
+MergeResult MergeSweeps(const MergeOptions& options);
 
 }  // namespace al

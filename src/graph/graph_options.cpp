@@ -1,0 +1,55 @@
+// The graph's options table (al/core/option_table.hpp): one row per user-settable field.
+#include "al/core/error.hpp"
+#include "al/graph/graph.hpp"
+
+namespace al {
+namespace {
+
+// The prior's weight lives in a nested struct, which a member pointer of the table cannot reach.
+OptionField<GraphOptions> PriorWeightField() {
+  const NumericRange range = NumericRange::Closed(0, 1);
+  OptionField<GraphOptions> f{"prior_weight", OptionType::kReal, range.Text(),
+                              "feature prior in the unary: y = (1 - w) mask + w q (0 = the mask alone)",
+                              false, {}, {}, {}};
+  f.get = [](const GraphOptions& o) { return nlohmann::json(o.prior.weight); };
+  f.set = [](GraphOptions& o, const nlohmann::json& v) { o.prior.weight = v.get<double>(); };
+  f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.weight); };
+  return f;
+}
+
+}  // namespace
+
+const OptionTable<GraphOptions>& GraphOptions::Table() {
+  using O = GraphOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("graph")
+          .Int("k", &O::k, R::Closed(1, 1000), "neighbours per node")
+          .Real("delta", &O::delta, R::AtLeast(-1),
+                "semantic gate: a distance >= 0 of unit features, or in cosine mode a cosine in [-1, 1]")
+          .Choice("delta_mode", &O::delta_mode, {{"distance", DeltaMode::kDistance}, {"cosine", DeltaMode::kCosine}},
+                  "distance: delta bounds |f_u - f_v|; cosine: delta is a cosine threshold")
+          .Real("lambda", &O::lambda, R::AtLeast(0), "edge weight scale")
+          .Flag("spatial", &O::spatial, "spatial weight factor exp(-d_x^2 / sigma_x^2)")
+          .Int("hops", &O::hops, R::Closed(0, 100), "candidate growth repetitions")
+          .Real("radius_scale", &O::radius_scale, R::Above(0), "multiplier of r_i = max exp(scale)")
+          .Int("knn_checks", &O::knn_checks, R::AtLeast(0), "0 = exact kNN; > 0 approximate (FLANN checks)")
+          .Real("kl_smoothing", &O::kl_smoothing, R::Open(0, 1), "s of the smoothed KL")
+          .Int("grow_rounds", &O::grow_rounds, R::Closed(0, 1000),
+               "grow the candidate set around what the cut added and solve again, at most this many "
+               "times (0 = fixed candidate set)")
+          .Flag("centre", &O::centre_features, "centre semantic features on the scene mean")
+          .Custom(PriorWeightField());
+  return table;
+}
+
+void GraphOptions::Check() const {
+  Table().Check(*this);
+  const bool cosine = delta_mode == DeltaMode::kCosine;
+  if (cosine ? delta > 1.0 : delta < 0.0)
+    throw Error("graph option 'delta' = " + FormatOptionNumber(delta) + " must be " +
+                    (cosine ? "in [-1, 1] in cosine mode" : ">= 0 in distance mode"),
+                ExitCode::kUsage);
+}
+
+}  // namespace al

@@ -1,0 +1,180 @@
+// RunRefine: the whole `refine` flow as a library call (see al/refine/refine.hpp): the stages of
+// al/refine/stages.hpp in a row, then the outputs. Files and memory differ only in how the inputs
+// are loaded; from there on both run RefineLoaded, so the CLI and the Python module agree.
+#include <algorithm>
+#include <filesystem>
+
+#include "al/core/error.hpp"
+#include "al/core/report.hpp"
+#include "al/core/timer.hpp"
+#include "al/graph/problem_io.hpp"
+#include "al/io/npy.hpp"
+#include "al/io/ply.hpp"
+#include "al/refine/refine.hpp"
+#include "al/refine/stages.hpp"
+
+namespace al {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct RefineCounts {
+  std::vector<bool> added;
+  std::size_t added_count = 0, restored = 0, refined = 0;
+};
+
+RefineCounts CountChanges(const std::vector<bool>& removed, const std::vector<bool>& refined) {
+  RefineCounts c;
+  c.added.assign(refined.size(), false);
+  for (std::size_t i = 0; i < refined.size(); ++i) {
+    c.added[i] = refined[i] && !removed[i];
+    c.added_count += c.added[i];
+    c.restored += removed[i] && !refined[i];
+    c.refined += refined[i];
+  }
+  return c;
+}
+
+// refined.npy, refined.txt, added.txt, remaining.ply (each atomically) and the optional problem export.
+void WriteRefineOutputs(const RefineOptions& o, const RefineInputs& in, const GraphResult& graph,
+                        const SolveOutcome& solved, const RefineCounts& counts) {
+  fs::create_directories(o.out_dir);
+  const fs::path out(o.out_dir);
+  WriteNpyBool((out / "refined.npy").string(), solved.refined);
+  WriteIndexText((out / "refined.txt").string(), MaskToIndices(solved.refined), "refined removed set");
+  WriteIndexText((out / "added.txt").string(), MaskToIndices(counts.added), "Gaussians added by refinement");
+  std::vector<bool> keep(solved.refined.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !solved.refined[i];
+  WritePly((out / "remaining.ply").string(), *in.scene, keep);
+  if (!o.export_problem_dir.empty())
+    ExportProblem(graph.problem, solved.empty_graph ? nullptr : &solved.p, o.export_problem_dir, o.graph.lambda);
+}
+
+nlohmann::json RefineParams(const RefineOptions& o, const RefineInputs& in, const std::string& solver_name) {
+  const GraphOptions& go = o.graph;
+  return {{"scene", o.scene}, {"removed", o.removed},
+          {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+          {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
+          {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
+          {"decoder", o.decoder},
+          {"k", go.k}, {"delta", go.delta},
+          {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
+          {"lambda", go.lambda}, {"spatial", go.spatial}, {"hops", go.hops},
+          {"radius_scale", go.radius_scale}, {"knn_checks", go.knn_checks},
+          {"kl_smoothing", go.kl_smoothing}, {"centre", go.centre_features}, {"grow_rounds", go.grow_rounds},
+          {"prior_weight", go.prior.weight}, {"solver", solver_name}, {"solver_options", o.solver_options},
+          {"threshold", o.decision.rule.ToString()}, {"restore", o.decision.restore},
+          {"min_segment_share", o.decision.min_segment_share},
+          {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
+          {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
+          {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
+          {"export_problem", o.export_problem_dir}};
+}
+
+// Graph → solve → decide → ground-truth scores → outputs (when out_dir is set) → report.
+RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver& solver,
+                          const std::string& solver_name, nlohmann::json report, const Timer& total) {
+  nlohmann::json& timings = report["timings_s"];
+  nlohmann::json& warnings = report["warnings"];
+  Timer t;
+  auto stage_done = [&](const std::string& name) {
+    const double s = t.Seconds();
+    timings[name] = s;
+    if (o.on_stage) o.on_stage(name, s);
+    t.Reset();
+  };
+  GrownSolve grown = BuildAndSolve(in, o.graph, solver, o.decision);
+  const GraphResult& graph = grown.graph;
+  const SolveOutcome& solved = grown.outcome;
+  for (const auto& w : graph.warnings) warnings.push_back(w);
+  for (const auto& w : solved.warnings) warnings.push_back(w);
+  {
+    // Graph builds and solves alternate when the candidate set grows: report their sums.
+    const double total_s = t.Seconds();
+    timings["graph"] = grown.graph_seconds;
+    timings["solve"] = grown.solve_seconds;
+    timings["decide"] = std::max(0.0, total_s - grown.graph_seconds - grown.solve_seconds);
+    if (o.on_stage) o.on_stage("graph", grown.graph_seconds), o.on_stage("solve", grown.solve_seconds);
+    t.Reset();
+  }
+
+  RefineResult result;
+  result.removed = in.removal.removed;
+  result.refined = solved.refined;
+  result.message = solved.message;
+  if (solved.empty_graph) {
+    result.status = "empty_graph";
+    result.exit_code = static_cast<int>(ExitCode::kEmptyGraph);
+  }
+  if (in.ground_truth) {
+    report["gt"] = ScoreAgainstGroundTruth(*in.ground_truth, in.removal.removed, result.refined);
+    stage_done("ground_truth");
+  }
+  const RefineCounts counts = CountChanges(in.removal.removed, result.refined);
+  for (std::size_t i = 0; i < result.refined.size(); ++i) {
+    if (counts.added[i]) result.added.push_back(std::int64_t(i));
+    else if (in.removal.removed[i] && !result.refined[i]) result.restored.push_back(std::int64_t(i));
+  }
+  if (!o.out_dir.empty()) {
+    WriteRefineOutputs(o, in, graph, solved, counts);
+    stage_done("write");
+  }
+
+  const GraphStats& gs = graph.stats;
+  report["status"] = result.status;
+  report["params"] = RefineParams(o, in, solver_name);
+  report["counts"] = {{"num_gaussians", in.scene->size()}, {"removed_input", in.removal.num_removed},
+                      {"candidates", gs.nodes}, {"edges", gs.edges}, {"refined", counts.refined},
+                      {"added", counts.added_count}, {"restored", counts.restored},
+                      {"excluded_nonfinite", gs.excluded_nonfinite}};
+  report["removed_set"] = in.removal.stats;
+  if (!in.fgs_mask.is_null()) report["fgs_mask"] = in.fgs_mask;
+  report["graph"] = GraphStatsToJson(gs);
+  report["graph"]["rounds"] = grown.rounds;
+  report["graph"]["growth_capped"] = grown.capped;
+  report["solver"] = solved.solver;
+  report["decision"] = solved.decision;
+  report["message"] = result.message;
+  timings["total"] = total.Seconds();
+  if (!o.out_dir.empty()) WriteReport(o.out_dir, report);
+  result.report = std::move(report);
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json RefineResult::Summary() const {
+  nlohmann::json s = {{"status", status}, {"message", message}};
+  const nlohmann::json counts = report.value("counts", nlohmann::json::object());
+  for (const auto& [key, value] : counts.items()) s[key] = value;
+  if (report.contains("gt"))
+    for (const char* when : {"before", "after"})
+      for (const char* metric : {"f1", "iou", "precision", "recall"})
+        s[std::string("gt_") + metric + "_" + when] = report["gt"][when][metric];
+  s["seconds"] = report.value("timings_s", nlohmann::json::object()).value("total", 0.0);
+  return s;
+}
+
+RefineResult RunRefine(const RefineOptions& o) {
+  Timer total;
+  nlohmann::json report = NewReport("refine");
+  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  const std::string solver_name = ResolveSolverName(o.solver);
+  auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
+  const RefineInputs in = LoadRefineInputs(o, report);
+  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total);
+}
+
+RefineResult RunRefine(const RefineData& data, const RefineOptions& options) {
+  Timer total;
+  nlohmann::json report = NewReport("refine");
+  RefineOptions o = options;
+  if (o.scene.empty()) o.scene = data.scene && !data.scene->source_path.empty() ? data.scene->source_path : data.name;
+  if (o.removed.empty() && data.removed.data != nullptr) o.removed = data.name;
+  const std::string solver_name = ResolveSolverName(o.solver);
+  auto solver = MakeSolver(solver_name, o.solver_options);
+  const RefineInputs in = InputsFromData(data, o, report);
+  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total);
+}
+
+}  // namespace al

@@ -1,0 +1,109 @@
+// End to end on synthetic scenes with ground truth (fixed seeds, all three presets): the default
+// refine stages (centred features, feature prior, candidate growth, restore; al/refine/stages.hpp)
+// with bk. For every simulator refinement never lowers F1 by more than 0.01 (one documented
+// look-alike case: 0.02); for GaussianCut's boundary errors it raises F1 on every scene and
+// recovers most misses.
+// The gen_scenes.py half of the accuracy regression is tests/accuracy (docs/accuracy.md).
+// (ScoreRemoval's F1 is by count; opacity is passed only for the weighted scores.)
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <utility>
+
+#include "al/fixtures/synth.hpp"
+#include "al/refine/stages.hpp"
+#include "al/solver.hpp"
+
+namespace {
+
+// The refine stages on an in-memory synthetic scene (what `al-refine refine --method generic`
+// does after loading).
+al::SolveOutcome RefineDefault(const al::fixtures::SynthScene& s, const std::vector<bool>& removed,
+                               const al::DecisionOptions& decision = {}) {
+  al::RefineInputs in;
+  in.scene = std::make_shared<const al::Scene>(s.scene);
+  in.SetFeatures(s.scene.features);
+  in.feature_source = "semantic_*";
+  in.removal.removed = removed;
+  for (bool b : removed) in.removal.num_removed += b;
+  auto solver = al::MakeSolver("bk");
+  return al::BuildAndSolve(in, al::GraphOptions{}, *solver, decision).outcome;
+}
+
+al::fixtures::SynthScene Scene(const std::string& preset, std::uint64_t seed, bool masks) {
+  al::fixtures::SynthOptions so;
+  so.preset = preset;
+  so.num_gaussians = 20000;
+  so.seed = seed;
+  so.num_views = masks ? 8 : 2;
+  so.width = masks ? 64 : 32;
+  so.height = masks ? 48 : 24;
+  so.compute_masks = masks;  // the SAGS simulator needs masks
+  return al::fixtures::Synthesize(so);
+}
+
+TEST(RefineAccuracy, SyntheticScenesFixedSeeds) {
+  // 15 scenes (~0.5 s each): 5 seeds would let one lucky or unlucky draw decide "most".
+  int gc_raised = 0, gc_runs = 0, runs = 0;
+  double gc_recovered = 0;
+  for (const std::string preset : {"room", "counter", "garden"})
+    for (std::uint64_t seed = 1; seed <= 5; ++seed) {
+      const al::fixtures::SynthScene s = Scene(preset, seed, false);
+      for (const auto& [method, removed] : s.removed) {
+        const al::SolveOutcome out = RefineDefault(s, removed);
+        if (out.empty_graph) continue;
+        ++runs;
+        const auto before = al::ScoreRemoval(removed, s.labels, s.target_id);
+        const auto after = al::ScoreRemoval(out.refined, s.labels, s.target_id);
+        // One known exception, garden seed 2: FGS grabbed 70 % of a look-alike and refinement
+        // completes part of it (-0.017 F1; docs/refine.md, what the model cannot know).
+        const bool lookalike = method == "fgs" && preset == "garden" && seed == 2;
+        EXPECT_GE(after.f1, before.f1 - (lookalike ? 0.02 : 0.01)) << method << " " << preset << " seed " << seed;
+        if (method == "gc") {
+          ++gc_runs;
+          gc_raised += after.f1 > before.f1;
+          gc_recovered += double(after.true_positive - before.true_positive) / double(before.false_negative);
+        }
+      }
+    }
+  EXPECT_EQ(runs, 45);
+  ASSERT_EQ(gc_runs, 15);
+  EXPECT_EQ(gc_raised, 15);
+  EXPECT_GT(gc_recovered / gc_runs, 0.5);  // share of GC's misses recovered, mean over scenes
+}
+
+// SAGS needs target masks (its vote projects centres into them), which cost more: fewer scenes.
+TEST(RefineAccuracy, SagsNeverLowersF1) {
+  for (const std::string preset : {"room", "counter", "garden"}) {
+    const al::fixtures::SynthScene s = Scene(preset, 1, true);
+    ASSERT_EQ(s.removed.count("sags"), 1u) << preset;
+    const auto& removed = s.removed.at("sags");
+    const al::SolveOutcome out = RefineDefault(s, removed);
+    ASSERT_FALSE(out.empty_graph) << preset;
+    const double before = al::ScoreRemoval(removed, s.labels, s.target_id).f1;
+    const double after = al::ScoreRemoval(out.refined, s.labels, s.target_id).f1;
+    EXPECT_GE(after, before - 0.01) << preset;
+  }
+}
+
+// The failure the old segment rule existed for (docs/refine.md): on this scene FGS grabs most of a
+// look-alike tray (its contact band with the table and its "off" part stay), and completing that
+// tray lost 0.026 F1. The feature prior gives the tray's kept part no credit (it lies below the
+// removed set's spread), so the default adds almost none of it and F1 does not drop.
+TEST(RefineAccuracy, ASplitLookAlikeIsNotCompleted) {
+  const al::fixtures::SynthScene s = Scene("counter", 11, false);
+  const auto& removed = s.removed.at("fgs");
+  std::size_t lookalike_kept = 0;
+  for (std::size_t i = 0; i < removed.size(); ++i) lookalike_kept += !removed[i] && s.labels[i] == s.distractor_id;
+  ASSERT_GT(lookalike_kept, 100u);
+  const al::SolveOutcome out = RefineDefault(s, removed);
+  std::size_t lookalike_added = 0;
+  for (std::size_t i = 0; i < removed.size(); ++i)
+    lookalike_added += out.refined[i] && !removed[i] && s.labels[i] == s.distractor_id;
+  EXPECT_LT(lookalike_added, lookalike_kept / 10);
+  const double before = al::ScoreRemoval(removed, s.labels, s.target_id).f1;
+  EXPECT_GE(al::ScoreRemoval(out.refined, s.labels, s.target_id).f1, before - 0.01);
+}
+
+}  // namespace
