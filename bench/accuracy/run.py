@@ -121,7 +121,7 @@ def main():
         data = data_by_scene[sc.name]
         path = sc.mask_path(data.folder, mask)
         if kind == "al":
-            binary = args.today_bin if name == "today" else args.bin
+            binary = args.today_bin if name.startswith("today") else args.bin  # today, today_*: the old binary
             rec = runner.run_al_refine(binary, data, path, method, solver, flags)
         else:
             rec = runner.run_baseline(name.partition(":")[0], data, path, flags)
