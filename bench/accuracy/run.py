@@ -6,7 +6,7 @@ usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves rep
                              [--styles d16,...] [--solvers bk,cp] [--configs default,auto]
                              [--config NAME=FLAGS ...] [--baselines B1,B2,B3|none] [--n 60000]
                              [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
-                             [--no-write] [--summary]
+                             [--no-write] [--summary] [--write-only]
 
 Runs al-refine (the issue's command `--method M --k 10 --delta 0.8`, with the default flags and with
 --auto, solvers bk and cp) and the numpy baselines B1-B3 on every scene and removal mask; records
@@ -53,6 +53,9 @@ def parse_args():
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--no-write", action="store_true")
     ap.add_argument("--summary", action="store_true")
+    ap.add_argument("--write-only", action="store_true",
+                    help="run nothing: write the reports from every record in the work folder (e.g. "
+                         "records of several partial runs concatenated)")
     return ap.parse_args()
 
 
@@ -110,6 +113,11 @@ def main():
                         done[r["id"]] = r
                 except (json.JSONDecodeError, KeyError):
                     pass   # a line cut off by a kill: that run is redone
+    if args.write_only:
+        records = [r for r in done.values() if "half" in r]
+        report.write_all(records, REPO, quick=args.quick)
+        print(f"accuracy: wrote the reports from {len(records)} records", file=sys.stderr)
+        return 0
     todo = plan(args)
     gen_script = os.path.join(REPO, "..", "shared", "scenes", "gen_scenes.py")
     data_by_scene = {}
