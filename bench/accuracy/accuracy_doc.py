@@ -29,7 +29,8 @@ stopped with an error).
 
 **Seeds, split once before any tuning.** gen: tuning seeds 1-20, reporting seeds 21-40 (20 per
 style, 80 in all); synth: tuning seeds 1-7, reporting seeds 8-14 (7 per preset, 21 scenes). Every default was chosen on the tuning half (docs/refine.md); **every number below is the
-reporting half** unless a table says otherwise.
+reporting half** unless a table says otherwise. **This run holds** COVERAGE; the `auto` rows
+ran on fewer scenes (their `scenes` column), for lack of time.
 
 **Per run.** ΔF1 = F1 after − before against the object (by count); raised = ΔF1 > 0; misses
 recovered = share of the method's false negatives that refinement added (mean over scenes);

@@ -3,7 +3,9 @@ import csv
 import datetime
 import json
 import os
+import shutil
 import subprocess
+import tempfile
 
 import numpy as np
 
@@ -111,20 +113,27 @@ def plot(records, png):
     """dF1 per scene, one panel per source x mask, one series per run kind (gnuplot)."""
     panels = sorted(group(records, ("source", "mask")).items())
     series = sorted({run_label(r) for r in records})
-    base = os.path.splitext(png)[0]
-    cmds = [f"set terminal pngcairo size 1400,{360 * ((len(panels) + 3) // 4)} font ',9'", f"set output '{png}'",
+    tmp = tempfile.mkdtemp(prefix="al-acc-plot-")   # the data files are not kept beside the picture
+    cmds = [f"set terminal pngcairo noenhanced size 1400,{360 * ((len(panels) + 3) // 4)} font ',9'",
+            f"set output '{png}'",
             f"set multiplot layout {(len(panels) + 3) // 4},4", "set key bottom right font ',7'",
             "set grid ytics", "set xlabel 'scene (sorted by dF1 of each run)'", "set ylabel 'dF1'"]
     for (source, mask), recs in panels:
-        dat = f"{base}_{source}_{mask}.dat"
+        dat = os.path.join(tmp, f"{source}_{mask}.dat")
+        present = []
         with open(dat, "w") as fh:
             for s in series:
                 ys = sorted(r["dF1"] for r in recs if run_label(r) == s and r["status"] != "error")
-                fh.write(f"# {s}\n" + "".join(f"{i} {y:.6f}\n" for i, y in enumerate(ys)) + "\n\n")
-        plots = ", ".join(f"'{dat}' index {i} with linespoints pt 7 ps 0.4 title '{s}'" for i, s in enumerate(series))
+                if ys:
+                    present.append(f"{s} ({len(ys)})")
+                    fh.write(f"# {s}\n" + "".join(f"{i} {y:.6f}\n" for i, y in enumerate(ys)) + "\n\n")
+        plots = ", ".join(f"'{dat}' index {i} with linespoints pt 7 ps 0.4 title '{s}'" for i, s in enumerate(present))
         cmds += [f"set title '{source} {mask}'", f"plot {plots}"]
     cmds.append("unset multiplot")
-    subprocess.run(["gnuplot"], input="\n".join(cmds), text=True, check=True)
+    try:
+        subprocess.run(["gnuplot"], input="\n".join(cmds), text=True, check=True)
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def write_all(records, repo, quick=False):
