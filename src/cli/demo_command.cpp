@@ -2,6 +2,7 @@
 // refine the simulated GaussianCut removal with bk and cp → eval of the three removals → a short
 // summary. GC's errors are residuals refinement can recover (its missed contact band; issue 13):
 // the summary says how many of the method's misses came back and how precise the additions were.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
@@ -101,9 +102,9 @@ class DemoCommand : public Command {
     std::printf("\n%s: target '%s' (%zu Gaussians), %zu of %zu views show it\n", eo.row_name.c_str(),
                 synth.target_name.c_str(), synth.objects[std::size_t(synth.target_id)].count, er.evaluated,
                 synth.cameras.size());
-    std::printf("%-10s %8s %7s %7s %8s %8s %7s %7s %10s %10s %11s %9s\n", "removal", "removed", "added",
+    std::printf("%-10s %8s %7s %8s %8s %8s %7s %7s %10s %10s %11s %11s %9s %9s\n", "removal", "removed", "added",
                 "restored", "miss_rec", "prec_add", "F1(GT)", "IoU(GT)", "acc_ddepth", "acc_dd_flt", "collat_dep",
-                "refine_s");
+                "IoU_drop_ft", "resid_ft", "refine_s");
     nlohmann::json summary = nlohmann::json::array();
     for (std::size_t c = 0; c < cols.size(); ++c) {
       const auto& col = cols[c];
@@ -116,20 +117,28 @@ class DemoCommand : public Command {
       };
       char secs[32] = "-";
       if (c > 0) std::snprintf(secs, sizeof secs, "%.2f", refine_s);
-      std::printf("%-10s %8zu %7s %8s %8s %8s %7.3f %7.3f %10.3f %10.3f %11.4f %9s\n",
+      // Feature metrics: segmentation of the scene's own rendered feature field (docs/eval.md).
+      const bool feat = col.contains("feature");
+      std::printf("%-10s %8zu %7s %8s %8s %8s %7.3f %7.3f %10.3f %10.3f %11.4f %11.3f %9.3f %9s\n",
                   col["label"].get<std::string>().c_str(), col["num_removed"].get<std::size_t>(),
                   cell("added", "%.0f").c_str(), cell("restored", "%.0f").c_str(), cell("misses_recovered", "%.3f").c_str(),
                   cell("precision_added", "%.3f").c_str(), col["gt"]["f1"].get<double>(),
                   col["gt"]["iou"].get<double>(), col["depth"]["mean_acc_delta_depth"].get<double>(),
                   col["depth_float"]["mean_acc_delta_depth"].get<double>(),
                   col["depth"]["collateral_depth"]["mean"].get<double>(),
-                  secs);
+                  feat ? col["feature"]["mean_iou_drop"].get<double>() : NAN,
+                  feat ? col["feature"]["mean_residual"].get<double>() : NAN, secs);
       nlohmann::json s = {{"label", col["label"]},
                           {"num_removed", col["num_removed"]},
                           {"gt", col["gt"]},
                           {"acc_delta_depth", col["depth"]["mean_acc_delta_depth"]},
                           {"acc_delta_depth_float", col["depth_float"]["mean_acc_delta_depth"]},
                           {"collateral_depth", col["depth"]["collateral_depth"]["mean"]}};
+      if (feat) {
+        s["iou_drop_feat"] = col["feature"]["mean_iou_drop"];
+        s["acc_seg_feat"] = col["feature"]["acc_seg"];
+        s["residual_feat"] = col["feature"]["mean_residual"];
+      }
       if (c > 0) {
         s["added"] = col["added"];
         s["change"] = change;
@@ -142,8 +151,11 @@ class DemoCommand : public Command {
       if (r.result.exit_code != 0) std::printf("note: refine with %s: %s\n", r.solver.c_str(), r.result.message.c_str());
     std::printf("timings: synth %.1f s, refine bk %.1f s, cp %.1f s, eval %.1f s (render %.1f, metrics %.1f, io %.1f)\n",
                 synth_s, runs[0].seconds, runs[1].seconds, eval_s, er.seconds_render, er.seconds_metrics, er.seconds_io);
+    std::printf("features: IoU_drop_ft = drop of the target's IoU in the scene's own rendered feature field, "
+                "resid_ft = share of its before-pixels still segmented as it after (lower = less left)\n");
     std::printf("open first: %s (summary, every view side by side, residual and added overlays)\n", page.c_str());
-    std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk, cyan: restored)\n",
+    std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk, "
+                "cyan: restored, _featseg.png = feature segmentation before | after, red = residual)\n",
                 (out / "eval" / "images").string().c_str());
     std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (out / "eval" / "table.md").string().c_str(),
                 (out / "eval" / "table.tex").string().c_str(), scene_dir.string().c_str(),
