@@ -16,6 +16,7 @@ at the end bench/results/accuracy.json + .csv and docs/accuracy.md (report.py) a
 unless --no-write (exploration on the tuning half). --summary prints the table to stdout.
 """
 import argparse
+import hashlib
 import json
 import os
 import sys
@@ -92,10 +93,19 @@ def plan(args):
     return todo
 
 
-def run_id(item, n):
+def binary_id(path):
+    """A run is reused only with the same binary: its content hash is part of the run id."""
+    if not path or not os.path.exists(path):
+        return "-"
+    with open(path, "rb") as fh:
+        return hashlib.sha1(fh.read()).hexdigest()[:12]
+
+
+def run_id(item, n, bins):
     sc, mask, _, kind, name, solver, flags = item
     extra = " ".join(flags) if kind == "al" else json.dumps(flags, sort_keys=True)
-    return f"{sc.name}|n={n}|{mask}|{name}|{solver}|{extra}"
+    binary = "" if kind != "al" else f"|bin={bins['today' if name.startswith('today') else 'al']}"
+    return f"{sc.name}|n={n}|{mask}|{name}|{solver}|{extra}{binary}"
 
 
 def main():
@@ -121,7 +131,8 @@ def main():
     todo = plan(args)
     gen_script = os.path.join(REPO, "..", "shared", "scenes", "gen_scenes.py")
     data_by_scene = {}
-    pending = [it for it in todo if run_id(it, args.n) not in done]
+    bins = {"al": binary_id(args.bin), "today": binary_id(args.today_bin)}
+    pending = [it for it in todo if run_id(it, args.n, bins) not in done]
     print(f"accuracy: {len(todo)} runs, {len(todo) - len(pending)} done earlier", file=sys.stderr)
 
     def one(item):
@@ -133,7 +144,7 @@ def main():
             rec = runner.run_al_refine(binary, data, path, method, solver, flags)
         else:
             rec = runner.run_baseline(name.partition(":")[0], data, path, flags)
-        rec.update({"id": run_id(item, args.n), "source": sc.source, "style": sc.style, "seed": sc.seed, "half": sc.half,
+        rec.update({"id": run_id(item, args.n, bins), "source": sc.source, "style": sc.style, "seed": sc.seed, "half": sc.half,
                     "mask": mask, "method": method, "config": name, "solver": solver, "n": args.n})
         return rec
 
@@ -155,7 +166,7 @@ def main():
                 done[rec["id"]] = rec
             data_by_scene.pop(name, None)
             print(f"accuracy: scene {k + 1}/{len(by_scene)} {name}", file=sys.stderr)
-    records = [done[run_id(it, args.n)] for it in todo]
+    records = [done[run_id(it, args.n, bins)] for it in todo]
     errors = [r for r in records if r["status"] == "error"]
     for r in errors[:5]:
         print(f"accuracy: error in {r['id']}: {r.get('stderr', '')}", file=sys.stderr)
