@@ -55,6 +55,10 @@ void AddOptionFlags(CLI::App& app, const OptionTable<O>& table, O& options, cons
       app.add_flag_callback(flag, [store] { store(true, false); }, help)->group(group);
       continue;
     }
+    if (field.type == OptionType::kFlag) {  // --spatial off and --no-spatial say the same
+      std::string no = "--no-" + flag.substr(2);
+      app.add_flag_callback(no, [store] { store(false, false); }, "same as " + flag + " off")->group(group);
+    }
     const bool numeric = field.type == OptionType::kInt || field.type == OptionType::kReal;
     if (numeric && !field.range.empty()) help += "; " + field.range;
     app.add_option_function<std::string>(flag, [store](const std::string& s) { store(s, true); }, help)

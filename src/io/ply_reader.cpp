@@ -191,6 +191,23 @@ std::vector<std::size_t> IndexedColumns(const std::vector<HeaderProperty>& props
   return out;
 }
 
+// "auto" = the standard prefixes (FORMATS.md §2.2); "none"/"" = nothing; "a,b,auto" = in that order.
+std::vector<std::string> FeaturePrefixPreference(const std::string& spec) {
+  std::vector<std::string> out;
+  if (spec.empty() || spec == "none") return out;
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    const std::size_t comma = std::min(spec.find(',', start), spec.size());
+    const std::string item = spec.substr(start, comma - start);
+    if (item == "auto")
+      for (const char* p : {"semantic_", "obj_dc_", "f_semantic_", "feat_"}) out.emplace_back(p);
+    else if (!item.empty())
+      out.push_back(item);
+    start = comma + 1;
+  }
+  return out;
+}
+
 template <typename T>
 T LoadSwapped(const unsigned char* p, bool swap) {
   T v;
@@ -282,24 +299,22 @@ int ShDegreeOf(std::size_t rest_columns, const std::string& path) {
   }
 }
 
-// The feature columns the options ask for (auto: the first standard prefix present).
+// The feature columns the options ask for. feature_prefix: one explicit prefix (strict), or a
+// preference list "a,b,..." in which "auto" stands for the standard prefixes; the first present
+// wins, none present = no features.
 std::vector<std::size_t> FeatureColumns(const std::vector<HeaderProperty>& props, const PlyReadOptions& options,
                                         const std::string& path, Scene& scene) {
   std::vector<std::size_t> feature_cols;
-  if (options.feature_prefix == "auto") {
-    for (const char* prefix : {"semantic_", "obj_dc_", "f_semantic_", "feat_"}) {
-      feature_cols = IndexedColumns(props, prefix, path);
-      if (!feature_cols.empty()) {
-        scene.feature_prefix = prefix;
-        break;
-      }
+  const std::vector<std::string> wanted = FeaturePrefixPreference(options.feature_prefix);
+  for (const std::string& prefix : wanted) {
+    feature_cols = IndexedColumns(props, prefix, path);
+    if (!feature_cols.empty()) {
+      scene.feature_prefix = prefix;
+      break;
     }
-  } else if (options.feature_prefix != "none" && !options.feature_prefix.empty()) {
-    feature_cols = IndexedColumns(props, options.feature_prefix, path);
-    if (feature_cols.empty())
-      throw FileError(path, "no feature properties with prefix '" + options.feature_prefix + "'");
-    scene.feature_prefix = options.feature_prefix;
   }
+  if (feature_cols.empty() && wanted.size() == 1 && options.feature_prefix != "auto")
+    throw FileError(path, "no feature properties with prefix '" + options.feature_prefix + "'");
   return feature_cols;
 }
 
