@@ -6,6 +6,12 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "al/eval/eval.hpp"
+#include "al/io/camera.hpp"
+#include "al/scene/scene.hpp"
+
 namespace al::eval {
 
 // int32 object id per Gaussian from an integer .npy of shape (N,); throws al::Error naming the file.
@@ -24,5 +30,27 @@ std::string ColumnLabelFromPath(const std::string& path);
 
 // "NAME=PATH" → {NAME, PATH}; a plain PATH → {"", PATH}.
 std::pair<std::string, std::string> SplitNamedPath(const std::string& spec);
+
+// The files of one evaluation (the `eval` subcommand's inputs).
+struct EvalFiles {
+  std::string scene, removed, removed_is = "removed", label, cameras, views = "all";
+  std::vector<std::string> refined, seg_refined, sam_refined;  // refined: [NAME=]FILE, repeatable
+  std::string object_masks, labels, seg_after, sam_after, row_name;
+  std::optional<int> object_id;
+  void Check() const;  // the object source is given; no more segmentation folders than refined sets
+  std::vector<std::string> Paths() const;  // every input path (an output set must not replace them)
+};
+
+// The loaded inputs, ready for RunEval, and the report skeleton (inputs with hashes, warnings,
+// params, load timings).
+struct EvalInputs {
+  Scene scene;
+  std::vector<Camera> views;
+  std::vector<EvalColumn> columns;  // the method's set ("after"), then each refined set
+  ObjectSource object;
+  std::string row;                  // table row: --row-name, else PRESET-OBJECT, else the folder name
+  nlohmann::json report;
+};
+EvalInputs LoadEvalInputs(const EvalFiles& files);
 
 }  // namespace al::eval
