@@ -5,7 +5,14 @@
 #include <iostream>
 #include <map>
 
+#include <new>
+
+#include <omp.h>
+#include <unistd.h>
+
 #include "al/core/error.hpp"
+#include "al/core/memory_limit.hpp"
+#include "al/core/output_set.hpp"
 #include "src/cli/command.hpp"
 
 namespace al::cli {
@@ -31,6 +38,25 @@ std::vector<std::string> WithDefaultSubcommand(int argc, char** argv,
   return args;
 }
 
+// Flags every subcommand takes (docs/reliability.md): the memory bound and, where a command
+// writes --out, permission to replace files al-refine did not write.
+void AddRunPolicyFlags(CLI::App& sub, std::string& max_memory, bool& force) {
+  sub.add_option("--max-memory", max_memory,
+                 "Refuse inputs whose estimated memory exceeds this (8G, 512M, 60%); default: half of physical memory");
+  if (sub.get_option_no_throw("--out"))
+    sub.add_flag("--force", force, "Replace files in --out that no earlier al-refine manifest lists");
+}
+
+// Allocation failure is bad input (too big for this machine), exit 2 with a message, never 4:
+// outside parallel regions it unwinds (outputs staged so far are dropped); inside one it cannot
+// cross the region, so the process ends here (the next run cleans the staging it leaves).
+void OnOutOfMemory() {
+  if (!omp_in_parallel()) throw std::bad_alloc();
+  static const char msg[] = "al-refine: error: out of memory (the input is too large for this machine; see --max-memory)\n";
+  (void)!::write(2, msg, sizeof msg - 1);
+  ::_exit(static_cast<int>(al::ExitCode::kBadInput));
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -49,9 +75,12 @@ int main(int argc, char** argv) {
   std::sort(commands.begin(), commands.end(),
             [](const auto& a, const auto& b) { return a->Name() < b->Name(); });
   std::vector<CLI::App*> subs;
+  std::string max_memory;
+  bool force = false;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     CLI::App* sub = app.add_subcommand(commands[i]->Name(), commands[i]->Description());
     commands[i]->Setup(*sub);
+    AddRunPolicyFlags(*sub, max_memory, force);
     subs.push_back(sub);
     names[commands[i]->Name()] = int(i);
   }
@@ -69,16 +98,20 @@ int main(int argc, char** argv) {
     std::cout << app.help();
     return static_cast<int>(al::ExitCode::kUsage);
   }
+  std::set_new_handler(OnOutOfMemory);
   for (std::size_t i = 0; i < subs.size(); ++i) {
     if (!subs[i]->parsed()) continue;
     try {
+      if (!max_memory.empty()) al::SetMemoryLimitBytes(al::ParseMemorySize(max_memory));
+      al::SetForceOutputs(force);
       return commands[i]->Run();
     } catch (const al::Error& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": error: " << e.what() << "\n";
       return static_cast<int>(e.code());
     } catch (const std::bad_alloc&) {
-      std::cerr << "al-refine " << commands[i]->Name() << ": error: out of memory\n";
-      return static_cast<int>(al::ExitCode::kInternal);
+      std::cerr << "al-refine " << commands[i]->Name()
+                << ": error: out of memory (the input is too large for this machine; see --max-memory)\n";
+      return static_cast<int>(al::ExitCode::kBadInput);
     } catch (const std::exception& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": internal error: " << e.what() << "\n";
       return static_cast<int>(al::ExitCode::kInternal);

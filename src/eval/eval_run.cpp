@@ -13,7 +13,10 @@
 #include "al/core/timer.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/images.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/eval/output.hpp"
+#include "al/render/render_views.hpp"
+#include "al/io/ply.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
 #include "al/fixtures/synth.hpp"
@@ -80,6 +83,12 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   Validate(scene, cameras, columns, object, o);
   const std::size_t n = scene.size(), nc = columns.size();
   EvalResult r;
+  for (const Camera& cam : cameras)  // before, the incremental cache and one "after" per column, at once
+    CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
+                            std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
+                        EstimateRenderBytes(n, cam.width, cam.height) * double(nc + 2));
+  if (!scene.source_path.empty())  // loaded from a file that may lack columns (in-code scenes have them all)
+    for (auto& w : MissingRenderColumns(scene)) r.warnings.push_back(std::move(w));
 
   // Which optional metrics can run, and why not (SPEC §6: the report says what was skipped).
   std::vector<bool> run_semantic(nc), run_sam(nc);
@@ -100,7 +109,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
                                : "no SAM segment lists of this column's renders (--sam-after / --sam-refined)"});
   }
 
-  StagedOutput staging(o.out_dir);
+  OutputSet staging(o.out_dir, EvalOutputSetOptions(o));
   const fs::path out = staging.dir();
   const fs::path images = out / "images";
   if (o.write_images) EnsureDirectory(images);
@@ -361,9 +370,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   timings["metrics"] = r.seconds_metrics;
   timings["io"] = r.seconds_io;
   timings["eval_total"] = r.seconds_total;
-  WriteReport(out, report);
-  staging.Commit();
-  r.report = std::move(report);
+  r.report = staging.Commit(std::move(report));
   return r;
 }
 

@@ -5,6 +5,7 @@
 
 #include "al/core/error.hpp"
 #include "al/core/report.hpp"
+#include "al/core/text.hpp"
 #include "al/core/timer.hpp"
 #include "al/graph/problem_io.hpp"
 #include "al/io/npy.hpp"
@@ -16,7 +17,45 @@ namespace al {
 
 namespace fs = std::filesystem;
 
+OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
+  OutputSetOptions so;
+  so.command = "refine";
+  so.inputs = {o.scene, o.removed, o.features, o.labels, o.prompt_embeddings};
+  for (const auto& part : SplitTrimmed(o.decoder, ',')) so.inputs.push_back(part);
+  so.planned = {"refined.npy", "refined.txt", "added.txt", "remaining.ply", "report.json"};
+  return so;
+}
+
+namespace {
+
+OutputSetOptions ExportSetOptions(const RefineOptions& o) {
+  OutputSetOptions so = RefineOutputSetOptions(o);
+  so.command = "export-problem";
+  so.flag = "--export-problem";
+  so.planned = {"first_edge.npy", "adj_vertices.npy", "edge_weights.npy", "y.npy", "node_weights.npy",
+                "node_ids.npy", "p.npy", "params.json", "report.json"};
+  return so;
+}
+
+}  // namespace
+
+void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, const std::vector<double>* p) {
+  OutputSet set(o.export_problem_dir, ExportSetOptions(o));
+  ExportProblem(problem, p, set.dir().string(), o.graph.lambda);
+  nlohmann::json report = NewReport("export-problem");
+  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", o.graph.lambda}};
+  report["counts"] = {{"nodes", problem.num_nodes()}, {"edges", problem.num_edges()}};
+  set.Commit(report);
+}
+
 RefineResult RunRefine(const RefineOptions& o) {
+  OutputSet set(o.out_dir, RefineOutputSetOptions(o));
+  RefineResult result = RefineIntoSet(o, set);
+  result.report = set.Commit(result.report);
+  return result;
+}
+
+RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
   Timer total;
   nlohmann::json report = NewReport("refine");
   nlohmann::json& timings = report["timings_s"];
@@ -29,6 +68,7 @@ RefineResult RunRefine(const RefineOptions& o) {
     t.Reset();
   };
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, ExportSetOptions(o));
   const std::string solver_name = ResolveSolverName(o.solver);
   auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
 
@@ -67,9 +107,8 @@ RefineResult RunRefine(const RefineOptions& o) {
     stage_done("ground_truth");
   }
 
-  // Outputs (each written atomically).
-  fs::create_directories(o.out_dir);
-  const fs::path out(o.out_dir);
+  // Outputs: staged, published by the caller's commit.
+  const fs::path out = set.dir();
   WriteNpyBool((out / "refined.npy").string(), result.refined);
   WriteIndexText((out / "refined.txt").string(), MaskToIndices(result.refined), "refined removed set");
   std::vector<bool> added(N, false), keep(N);
@@ -83,8 +122,7 @@ RefineResult RunRefine(const RefineOptions& o) {
   }
   WriteIndexText((out / "added.txt").string(), MaskToIndices(added), "Gaussians added by refinement");
   WritePly((out / "remaining.ply").string(), in.scene, keep);
-  if (!o.export_problem_dir.empty())
-    ExportProblem(graph.problem, solved.empty_graph ? nullptr : &solved.p, o.export_problem_dir, go.lambda);
+  if (!o.export_problem_dir.empty()) ExportProblemSet(o, graph.problem, solved.empty_graph ? nullptr : &solved.p);
   stage_done("write");
 
   report["status"] = result.status;
@@ -115,7 +153,6 @@ RefineResult RunRefine(const RefineOptions& o) {
   report["decision"] = solved.decision;
   report["message"] = result.message;
   timings["total"] = total.Seconds();
-  WriteReport(out, report);
   result.report = report;
   return result;
 }

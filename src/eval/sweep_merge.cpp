@@ -5,6 +5,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
 #include "al/refine/sweep.hpp"
@@ -17,7 +18,6 @@ MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::s
   Timer timer;
   if (shard_dirs.empty()) throw Error("merge: no shard directory given", ExitCode::kUsage);
   if (out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
-  const fs::path out_jsonl = fs::path(out_dir) / "results.jsonl";
   std::error_code ec;
   for (const auto& d : shard_dirs) {
     if (!fs::is_regular_file(fs::path(d) / "results.jsonl"))
@@ -26,6 +26,12 @@ MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::s
       throw Error(d + ": --out must differ from the shard directories", ExitCode::kUsage);
   }
 
+  OutputSetOptions so;
+  so.command = "merge";
+  so.inputs.assign(shard_dirs.begin(), shard_dirs.end());
+  so.planned = {"results.jsonl", "results.csv", "report.json"};
+  OutputSet set(out_dir, so);
+  const fs::path out_jsonl = set.dir() / "results.jsonl";
   MergeResult result;
   nlohmann::json report = NewReport("merge");
   std::map<std::string, std::size_t> index;  // id -> position in records
@@ -54,11 +60,10 @@ MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::s
     }
   }
   SortRecords(records);
-  EnsureDirectory(out_dir);
   WriteFileAtomically(out_jsonl, [&](std::ostream& os) {
     for (const auto& r : records) os << r.dump() << '\n';
   });
-  const nlohmann::json summaries = WriteSweepSummaries(out_dir, records);
+  const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records);
   for (const auto& s : summaries["skipped_charts"])
     result.warnings.push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
   result.records = records.size();
@@ -68,8 +73,7 @@ MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::s
   report["counts"] = {{"records", result.records}, {"duplicates", result.duplicates}, {"conflicts", result.conflicts}};
   for (const auto& w : result.warnings) report["warnings"].push_back(w);
   report["timings_s"] = {{"total", timer.Seconds()}};
-  WriteReport(out_dir, report);
-  result.report = report;
+  result.report = set.Commit(report);
   return result;
 }
 

@@ -9,6 +9,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
 #include "al/refine/stages.hpp"
@@ -60,6 +61,20 @@ void CheckInputsExist(const SweepScene& s) {
   need(s.object_masks, "object masks");
 }
 
+// results.jsonl is the sweep's journal: appended in place point by point (a kill loses at most
+// the point in flight), so it lives in --out; the rest of the set is staged and committed.
+OutputSetOptions SweepOutputSetOptions(const SweepOptions& o) {
+  OutputSetOptions so;
+  so.command = "sweep";
+  for (const auto& s : o.scenes)
+    for (const auto& p : {s.options.scene, s.options.removed, s.options.labels, s.options.features, s.cameras,
+                          s.object_masks})
+      so.inputs.push_back(p);
+  so.planned = {"results.csv", "report.json"};
+  so.journals = {"results.jsonl"};
+  return so;
+}
+
 nlohmann::json GridJson(const SweepGrid& g) {
   return {{"k", g.k}, {"delta", g.delta}, {"hops", g.hops}, {"radius_scale", g.radius_scale},
           {"lambda", g.lambda}, {"solver", g.solver}, {"threshold", g.threshold},
@@ -100,8 +115,8 @@ SweepResult RunSweep(const SweepOptions& o) {
                       {"solver_options", o.solver_options}, {"eval_views", o.eval_views}, {"out", o.out_dir},
                       {"lambda_rescaled", true}};
 
-  EnsureDirectory(o.out_dir);
-  const fs::path jsonl = fs::path(o.out_dir) / "results.jsonl";
+  OutputSet set(o.out_dir, SweepOutputSetOptions(o));
+  const fs::path jsonl = set.Journal("results.jsonl");
   const JsonlContents existing = ReadResultsJsonl(jsonl.string());
   if (existing.truncated_tail) {
     // Drop the half line of a killed run so the next append starts on a fresh line.
@@ -152,7 +167,7 @@ SweepResult RunSweep(const SweepOptions& o) {
       eval_setup.reset();
       if (!sc.cameras.empty())
         eval_setup = MakePointEvalSetup(sc.cameras, o.eval_views, sc.object_masks, *inputs,
-                                        (fs::path(o.out_dir) / ".eval_scratch").string());
+                                        (set.dir() / ".al-eval-scratch").string());
       load_seconds[sc.name] = point_timer.Seconds();
     }
     GraphOptions go = sc.options.graph;
@@ -239,7 +254,7 @@ SweepResult RunSweep(const SweepOptions& o) {
   std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string()).records;
   SortRecords(records);
   // A shard's charts would show only its slice: shards write the CSV, `merge` draws the charts.
-  const nlohmann::json summaries = WriteSweepSummaries(o.out_dir, records, /*charts=*/o.shard.count == 1);
+  const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records, /*charts=*/o.shard.count == 1);
   for (const auto& s : summaries["skipped_charts"])
     warnings.push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
   report["outputs"] = summaries;
@@ -248,8 +263,7 @@ SweepResult RunSweep(const SweepOptions& o) {
                       {"empty_graphs", result.empty_graphs}, {"graphs_built", result.graphs_built},
                       {"records", records.size()}};
   report["timings_s"] = {{"load", load_seconds}, {"total", total_timer.Seconds()}};
-  WriteReport(o.out_dir, report);
-  result.report = report;
+  result.report = set.Commit(report);
   return result;
 }
 

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/io/image.hpp"
 
 namespace al::metrics {
@@ -20,12 +21,7 @@ using json = nlohmann::json;
 constexpr std::int64_t kMaxPixels = std::int64_t(1) << 26;  // 67 Mpixel: refuse absurd sizes from hostile JSON
 
 std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open for reading");
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw FileError(path, "read error");
-  return s.str();
+  return ReadInputFile(path);
 }
 
 json ParseJson(const std::string& text, const std::string& source) {

@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/output_set.hpp"
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
 #include "al/io/masks.hpp"
@@ -49,7 +50,15 @@ struct RefineResult {
   nlohmann::json report;              // exactly what was written to report.json
 };
 
-// Throws al::Error (bad input / usage) before writing anything.
+// Throws al::Error (bad input / usage) before writing anything. The outputs form one output set
+// (al/core/output_set.hpp): inputs inside out_dir that the run would replace are refused up front.
 RefineResult RunRefine(const RefineOptions& options);
+
+// The pieces of RunRefine for callers that add to the set (refine --auto): the OutputSet options
+// of out_dir (inputs, planned names), and the run writing into set.dir() without committing.
+OutputSetOptions RefineOutputSetOptions(const RefineOptions& options);
+RefineResult RefineIntoSet(const RefineOptions& options, OutputSet& set);
+// Writes the solvers' problem (and p) into its own output set (--export-problem).
+void ExportProblemSet(const RefineOptions& options, const RefineProblem& problem, const std::vector<double>* p);
 
 }  // namespace al
