@@ -14,6 +14,7 @@
 #include "al/core/memory_limit.hpp"
 #include "al/core/output_set.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/openmp_defaults.hpp"
 
 namespace al::cli {
 
@@ -61,6 +62,7 @@ void OnOutOfMemory() {
 
 int main(int argc, char** argv) {
   using namespace al::cli;
+  ApplyOpenMpDefaults(argv);
   CLI::App app{
       "al-refine: refine and score object removals in 3D Gaussian Splatting scenes.\n"
       "Without a subcommand, flags are passed to `refine`. Every subcommand writes report.json.\n"

@@ -107,12 +107,31 @@ namespace {
 
 using namespace output_set;
 
+// A manifest path that stays inside the set ("a/b.png", never "/x", "../x" or "a/../../x").
+bool SafeRelative(const std::string& rel) {
+  if (rel.empty() || rel[0] == '/' || rel.find('\0') != std::string::npos) return false;
+  for (const auto& part : fs::path(rel))
+    if (part == ".." || part == "." || part.empty()) return false;
+  return true;
+}
+
 // Problems of one manifest entry (none when the file is as listed).
 void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& status, bool& grown) {
-  const std::string rel = f.value("path", "");
+  if (!f.is_object() || !f.contains("path") || !f["path"].is_string() ||
+      !SafeRelative(f["path"].get<std::string>())) {
+    status.problems.push_back("manifest entry " + f.dump().substr(0, 80) + ": not a file path inside the folder");
+    return;
+  }
+  const std::string rel = f["path"].get<std::string>();
   const bool append_only = f.value("append_only", false);
-  const std::uintmax_t bytes = f.value("bytes", std::uintmax_t(0));
+  const auto bytes_field = f.find("bytes");
+  const std::uintmax_t bytes =
+      bytes_field != f.end() && bytes_field->is_number_unsigned() ? bytes_field->get<std::uintmax_t>() : 0;
   std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(dir / rel, ec))) {  // never hash a FIFO or a device
+    status.problems.push_back(rel + ": missing");
+    return;
+  }
   const auto size = fs::file_size(dir / rel, ec);
   if (ec) {
     status.problems.push_back(rel + ": missing");
@@ -122,7 +141,8 @@ void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& s
     status.problems.push_back(rel + ": " + std::to_string(size) + " bytes, the manifest says " + std::to_string(bytes));
     return;
   }
-  if (f.contains("sha256") && Sha256File(dir / rel, bytes) != f["sha256"].get<std::string>()) {
+  const auto sha = f.find("sha256");
+  if (sha != f.end() && (!sha->is_string() || Sha256File(dir / rel, bytes) != sha->get<std::string>())) {
     status.problems.push_back(rel + ": content differs from the manifest (SHA-256)");
     return;
   }
@@ -136,33 +156,46 @@ nlohmann::json OutputSetStatus::ToJson() const {
 }
 
 OutputSetStatus VerifyOutputSet(const fs::path& dir) {
-  OutputSetStatus status;
   const fs::path abs = fs::weakly_canonical(fs::absolute(dir));
+  std::vector<std::string> stale;
   for (const Stale& s : FindTransactions(abs.parent_path(), abs.filename().string()))
     if (s.commit || !ProcessAlive(s.pid))
-      status.problems.push_back(s.path.filename().string() + ": " +
-                                (s.commit ? "a commit was interrupted; the next run into this folder finishes it"
-                                          : "staging of a killed run; the next run into this folder removes it"));
+      stale.push_back(s.path.filename().string() + ": " +
+                      (s.commit ? "a commit was interrupted; the next run into this folder finishes it"
+                                : "staging of a killed run; the next run into this folder removes it"));
   const auto report = ReadJson(abs / "report.json");
-  if (!report || !report->is_object()) {
-    status.state = status.problems.empty() ? "not_a_set" : "incomplete";
-    status.problems.insert(status.problems.begin(), "no readable report.json");
+  OutputSetStatus status = VerifyManifest(report ? report->dump() : std::string(), abs);
+  if (!report && !stale.empty()) status.state = "incomplete";
+  status.problems.insert(status.problems.end(), stale.begin(), stale.end());
+  return status;
+}
+
+OutputSetStatus VerifyManifest(const std::string& report_text, const fs::path& dir) {
+  OutputSetStatus status;
+  const nlohmann::json report = nlohmann::json::parse(report_text, nullptr, /*allow_exceptions=*/false);
+  if (report.is_discarded() || !report.is_object()) {
+    status.state = "not_a_set";
+    status.problems.push_back("no readable report.json");
     return status;
   }
-  status.command = report->value("command", "");
-  if (!report->contains("manifest")) {
+  const auto command = report.find("command");
+  if (command != report.end() && command->is_string()) status.command = command->get<std::string>();
+  const auto manifest = report.find("manifest");
+  const nlohmann::json* files = nullptr;
+  if (manifest != report.end() && manifest->is_object() && manifest->contains("files") &&
+      (*manifest)["files"].is_array())
+    files = &(*manifest)["files"];
+  if (!files) {
     status.state = "not_a_set";
-    status.problems.insert(status.problems.begin(), "report.json has no manifest (an older al-refine?)");
+    status.problems.push_back("report.json has no manifest (an older al-refine?)");
     return status;
   }
   bool grown = false;
-  const std::size_t before = status.problems.size();
-  for (const auto& f : (*report)["manifest"].value("files", nlohmann::json::array())) {
+  for (const auto& f : *files) {
     ++status.files;
-    CheckEntry(abs, f, status, grown);
+    CheckEntry(dir, f, status, grown);
   }
-  const bool damaged = status.problems.size() > before;
-  status.state = damaged ? "incomplete" : grown ? "extended" : "complete";
+  status.state = !status.problems.empty() ? "incomplete" : grown ? "extended" : "complete";
   return status;
 }
 

@@ -153,7 +153,10 @@ std::pair<std::size_t, std::size_t> ShardRange(std::size_t total, const Shard& s
 }
 
 std::vector<SweepScene> ReadSweepManifest(const std::string& path, const RefineOptions& base) {
-  const std::string text = ReadInputFile(path, std::uint64_t(1) << 28);
+  return ParseSweepManifest(ReadInputFile(path, std::uint64_t(1) << 28), path, base);
+}
+
+std::vector<SweepScene> ParseSweepManifest(const std::string& text, const std::string& path, const RefineOptions& base) {
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

@@ -201,9 +201,13 @@ void WritePng16(const std::string& path, const Image16& image) {
 
 PngData ReadPng(const std::string& path) {
   const std::string bytes = ReadInputFile(path);
-  if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0)
+  return DecodePng(bytes.data(), bytes.size(), path);
+}
+
+PngData DecodePng(const void* data, std::size_t size, const std::string& path) {
+  if (size < 8 || png_sig_cmp(static_cast<png_const_bytep>(data), 0, 8) != 0)
     throw FileError(path, "not a PNG file (bad signature)");
-  ReadSource src{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), 0};
+  ReadSource src{static_cast<const std::uint8_t*>(data), size, 0};
   PngErrorState st;
   ReadInfo ri;
   if (!ReadPngHeader(&ri, &src, &st)) throw FileError(path, std::string("corrupt PNG: ") + st.message);

@@ -73,5 +73,8 @@ struct OutputSetStatus {
   nlohmann::json ToJson() const;
 };
 OutputSetStatus VerifyOutputSet(const std::filesystem::path& dir);
+// The check itself on a report's text (fuzzing): manifest paths must stay inside dir and name
+// regular files, so a hostile manifest cannot make it read /dev/zero or ../../etc.
+OutputSetStatus VerifyManifest(const std::string& report_text, const std::filesystem::path& dir);
 
 }  // namespace al
