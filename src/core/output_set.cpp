@@ -121,6 +121,13 @@ void RewriteNestedReports(const fs::path& staging, const fs::path& out) {
   }
 }
 
+// A shell sitting in --out (or below it) would be left in the deleted old folder by an exchange.
+bool InsideCwd(const fs::path& out) {
+  std::error_code ec;
+  const fs::path rel = Canonical(fs::current_path(ec)).lexically_relative(out);
+  return !ec && !rel.empty() && *rel.begin() != "..";
+}
+
 }  // namespace
 
 void SetForceOutputs(bool force) { g_force_outputs = force; }
@@ -190,7 +197,7 @@ nlohmann::json OutputSet::Commit(nlohmann::json report) {
   if (!fs::exists(out_)) {
     fs::rename(staging_, out_, ec);
     if (ec) throw FileError(out_.string(), "cannot move the output set into place: " + ec.message());
-  } else if (!kept_foreign.empty() || !TryExchange(staging_, out_, options_.journals, own)) {
+  } else if (!kept_foreign.empty() || InsideCwd(out_) || !TryExchange(staging_, out_, options_.journals, own)) {
     // Foreign files stay where they are: entries move one by one from a committed journal folder.
     std::string removals;
     for (const auto& n : old_owned) removals += n + "\n";

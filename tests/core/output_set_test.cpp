@@ -183,6 +183,18 @@ TEST(OutputSet, JournalsSurviveKillsAndAreAdoptedByTheNextRun) {
   EXPECT_THROW(OutputSet(out2, o), Error);
 }
 
+TEST(OutputSet, ACommitIntoTheWorkingFolderKeepsItInPlace) {
+  const fs::path out = test::TempDir() / "out";
+  CommitSet(out, "1");
+  const fs::path before = fs::current_path();
+  fs::current_path(out);
+  CommitSet(".", "2");  // an exchange would leave this process (and a user's shell) in a deleted folder
+  EXPECT_TRUE(fs::exists(fs::current_path() / "report.json"));
+  EXPECT_EQ(Read("a.txt"), "a2");
+  fs::current_path(before);
+  EXPECT_EQ(VerifyOutputSet(out).state, "complete");
+}
+
 TEST(OutputSet, VerifyNamesFilesThatDifferFromTheManifest) {
   const fs::path out = test::TempDir() / "out";
   CommitSet(out, "1");
