@@ -1,4 +1,4 @@
-// bk (al::MaxFlow, solvers/bk/max_flow.hpp, default algorithm) against Kolmogorov's reference maxflow 3.04
+// bk (al::MaxFlow, solvers/max_flow/max_flow.hpp, default algorithm) against Kolmogorov's reference maxflow 3.04
 // (Debian libmaxflow-dev, GPL) on exactly the graph of bk_bench: the shared 1M-Gaussian scene, its
 // ~100k-node refine graph (default GraphOptions, k = 10) and the SPEC §5 s-t network the bk solver
 // builds from it (terminal capacities = smoothed-KL label costs, edge capacities = 2 w_uv).
@@ -21,7 +21,7 @@
 #include "al/graph/graph.hpp"
 #include "al/solver.hpp"
 #include "bench/refine_scene_1m.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace {
 
@@ -52,8 +52,8 @@ const Network& Net() {
     n.remove_cost.resize(V);
     n.edge_cap.resize(E);
     for (std::size_t v = 0; v < V; ++v) {
-      n.remove_cost[v] = problem.node_weights[v] * al::SmoothedKl2(problem.y_remove[v], 1.0, sm);
-      n.keep_cost[v] = problem.node_weights[v] * al::SmoothedKl2(problem.y_remove[v], 0.0, sm);
+      n.remove_cost[v] = problem.node_weights[v] * al::DataTerm2(problem.y_remove[v], 1.0, sm);
+      n.keep_cost[v] = problem.node_weights[v] * al::DataTerm2(problem.y_remove[v], 0.0, sm);
     }
     for (std::size_t e = 0; e < E; ++e) n.edge_cap[e] = 2.0 * problem.edge_weights[e];
     return n;

@@ -4,7 +4,7 @@
 // Baselines in the same run (docs/solvers.md "cp speed"): BM_Cp/.../sat:0 is cp without the
 // split-remainder saturation; .../maxflow:1 (and BM_Exact/maxflow:1) run every cut with
 // Boykov-Kolmogorov alone, the max-flow before the hybrid with pseudoflow.
-// BM_MaxFlowBalancedCut compares the shared max-flow (solvers/bk/max_flow.hpp, own
+// BM_MaxFlowBalancedCut compares the shared max-flow (solvers/max_flow/max_flow.hpp, own
 // Boykov-Kolmogorov) with Boost's boykov_kolmogorov_max_flow on the hardest kind of cut both solvers
 // issue: the level cut at the best constant value, where sources and sinks balance and the flow has
 // to travel across the whole graph (cp's re-splits of its large near-optimal component look alike).
@@ -17,14 +17,14 @@
 #include <vector>
 
 #include "al/solver.hpp"
-#include "solvers/bk/max_flow.hpp"
-#include "solvers/cut_pursuit/loss.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "solvers/max_flow/max_flow.hpp"
+#include "al/graph/loss.hpp"
+#include "al/fixtures/knn_problem.hpp"
 
 namespace {
 
 const al::RefineProblem& Problem() {
-  static const al::RefineProblem pb = al::cp::MakeKnnProblem(100000, 10, 0.1, 0.1, false, 2024);
+  static const al::RefineProblem pb = al::fixtures::MakeKnnProblem(100000, 10, 0.1, 0.1, false, 2024);
   return pb;
 }
 
@@ -89,7 +89,7 @@ struct LevelCut {
 const LevelCut& BalancedCut() {
   static const LevelCut cut = [] {
     const al::RefineProblem& pb = Problem();
-    const al::cp::Loss loss{pb.kl_smoothing, 2};
+    const al::Loss loss{pb.kl_smoothing, 2};
     const std::size_t V = pb.num_nodes();
     auto dphi = [&](std::size_t v, double t) {
       return loss.Grad(pb.y_remove[v], t) - loss.Grad(1.0 - pb.y_remove[v], 1.0 - t);

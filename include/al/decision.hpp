@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/graph/problem.hpp"
 
 namespace al {
@@ -32,6 +33,9 @@ struct DecisionOptions {
   // thirds: a clear majority; on synthetic scenes target segments have shares >= 0.8 and the
   // segments the methods split (look-alikes, contact bands) mostly below 2/3 (docs/refine.md).
   double min_segment_share = 2.0 / 3.0;
+
+  static const OptionTable<DecisionOptions>& Table();  // threshold, restore, min_segment_share
+  void Check() const { Table().Check(*this); }
 };
 
 struct DecisionResult {

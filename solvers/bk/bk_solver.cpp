@@ -7,7 +7,7 @@
 
 #include "al/core/error.hpp"
 #include "al/core/timer.hpp"
-#include "max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 namespace {
@@ -25,8 +25,8 @@ class BkSolver final : public Solver {
     const double s = problem.kl_smoothing;
     std::vector<double> keep_cost(V), remove_cost(V), edge_cap(E);
     for (std::size_t v = 0; v < V; ++v) {
-      remove_cost[v] = problem.node_weights[v] * SmoothedKl2(problem.y_remove[v], 1.0, s);
-      keep_cost[v] = problem.node_weights[v] * SmoothedKl2(problem.y_remove[v], 0.0, s);
+      remove_cost[v] = problem.node_weights[v] * DataTerm2(problem.y_remove[v], 1.0, s);
+      keep_cost[v] = problem.node_weights[v] * DataTerm2(problem.y_remove[v], 0.0, s);
     }
     for (std::size_t e = 0; e < E; ++e) edge_cap[e] = 2.0 * problem.edge_weights[e];
     const MinCutResult cut = MinCutLabels(keep_cost, remove_cost, problem.first_edge,

@@ -14,29 +14,11 @@
 
 #include "al/core/error.hpp"
 #include "al/core/timer.hpp"
-#include "solvers/bk/max_flow.hpp"
-#include "solvers/cut_pursuit/loss.hpp"
+#include "solvers/cut_pursuit/cp_context.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
 
 namespace al::cp {
 namespace {
-
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kBigCap = 1e300;  // stands for an infeasible side in a unary
-
-struct Context {
-  const SimplexProblem& pb;
-  const CutPursuitOptions& opt;
-  int D;
-  std::int64_t V;
-  Loss loss;
-  double eps;
-  std::vector<double> nw, m;
-  // Symmetric adjacency (neighbour, edge id) for gradients and BFS.
-  std::vector<std::int64_t> full_first;
-  std::vector<std::int32_t> full_nbr;
-  std::vector<std::int64_t> full_edge;
-};
 
 void Validate(const SimplexProblem& pb) {
   const std::int64_t V = pb.num_nodes();
@@ -79,184 +61,6 @@ void ComponentLists(const std::vector<std::int32_t>& comp, std::int32_t rV, std:
   for (std::size_t v = 0; v < comp.size(); ++v) list[pos[comp[v]]++] = static_cast<std::int32_t>(v);
 }
 
-double Dot(const double* a, const double* b, int D) {
-  double s = 0.0;
-  for (int d = 0; d < D; ++d) s += a[d] * b[d];
-  return s;
-}
-
-bool Feasible(const double* X, const double* s, int D, double eps) {
-  for (int d = 0; d < D; ++d) {
-    if (X[d] <= eps && s[d] < -eps) return false;
-    if (X[d] >= 1.0 - eps && s[d] > eps) return false;
-  }
-  return true;
-}
-
-// Splits one component; returns true when its vertices got different labels (written to `label`).
-bool SplitComponent(const Context& cx, std::int32_t c, const std::vector<std::int32_t>& comp,
-                    const std::vector<double>& rX, const std::vector<std::int32_t>& verts,
-                    const std::vector<std::int32_t>& local, std::vector<char>& label, MaxFlow& mf) {
-  const int D = cx.D;
-  const std::int32_t n = static_cast<std::int32_t>(verts.size());
-  if (n < 2) return false;
-  const double* X = &rX[static_cast<std::size_t>(c) * D];
-  const double eps = cx.eps;
-  // Gradient of the smooth part plus the TV derivative of cut edges (§4.1).
-  std::vector<double> G(static_cast<std::size_t>(n) * D), S(static_cast<std::size_t>(n) * D), neg(D);
-  for (std::int32_t i = 0; i < n; ++i) {
-    const std::int32_t v = verts[i];
-    double* g = &G[static_cast<std::size_t>(i) * D];
-    for (int d = 0; d < D; ++d) g[d] = cx.nw[v] * cx.loss.Grad(cx.pb.y[static_cast<std::size_t>(v) * D + d], X[d]);
-    for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
-      const std::int32_t u = cx.full_nbr[k];
-      if (comp[u] == c) continue;
-      const double w = cx.pb.edge_weights[cx.full_edge[k]];
-      if (!(w > 0.0)) continue;
-      const double* xu = &rX[static_cast<std::size_t>(comp[u]) * D];
-      for (int d = 0; d < D; ++d) {
-        const double diff = X[d] - xu[d];
-        if (diff > eps) g[d] += w * cx.m[d];
-        else if (diff < -eps) g[d] -= w * cx.m[d];
-      }
-    }
-    for (int d = 0; d < D; ++d) neg[d] = -g[d];
-    ProjectDirection(X, neg.data(), D, eps, cx.opt.emulate_upstream_projection_bug, &S[static_cast<std::size_t>(i) * D]);
-  }
-  auto cost = [&](std::int32_t i, const double* s) {
-    return Feasible(X, s, D, eps) ? Dot(s, &G[static_cast<std::size_t>(i) * D], D) : kInf;
-  };
-  // Direction of a cluster: projection of the mean of -G over its vertices.
-  auto centre_of = [&](const std::vector<char>& lab, int k, double* out) {
-    std::vector<double> mean(D, 0.0);
-    std::int64_t count = 0;
-    for (std::int32_t i = 0; i < n; ++i)
-      if (lab[i] == k) {
-        ++count;
-        for (int d = 0; d < D; ++d) mean[d] -= G[static_cast<std::size_t>(i) * D + d];
-      }
-    if (count == 0) return false;
-    for (int d = 0; d < D; ++d) mean[d] /= static_cast<double>(count);
-    ProjectDirection(X, mean.data(), D, eps, cx.opt.emulate_upstream_projection_bug, out);
-    return true;
-  };
-
-  // k-means++ restarts (§4.3), K = 2; the generator is seeded by the smallest vertex index.
-  std::mt19937_64 rng(0x9E3779B97F4A7C15ULL ^ static_cast<std::uint64_t>(verts[0]));
-  std::vector<double> best_centres;
-  int best_k = 0;
-  double best_total = kInf;
-  std::vector<char> lab(n);
-  for (int restart = 0; restart < std::max(1, cx.opt.split_values_init_num); ++restart) {
-    std::vector<double> centres;
-    const std::int32_t first = std::uniform_int_distribution<std::int32_t>(0, n - 1)(rng);
-    centres.insert(centres.end(), &S[static_cast<std::size_t>(first) * D], &S[static_cast<std::size_t>(first) * D] + D);
-    for (int k = 1; k < cx.opt.K; ++k) {
-      std::vector<double> minc(n, kInf);
-      double gmin = kInf;
-      for (std::int32_t i = 0; i < n; ++i) {
-        for (int j = 0; j < k; ++j) minc[i] = std::min(minc[i], cost(i, &centres[static_cast<std::size_t>(j) * D]));
-        gmin = std::min(gmin, minc[i]);
-      }
-      // A vertex whose proposal already is a centre gets weight 0 (as a point at distance 0 in
-      // k-means++): with D = 2 the proposals take two or three values, and drawing a duplicate
-      // would collapse the clusters and wrongly saturate the component.
-      double total = 0.0;
-      for (std::int32_t i = 0; i < n; ++i) {
-        bool duplicate = false;
-        for (int j = 0; j < k && !duplicate; ++j) {
-          double dist = 0.0;
-          for (int d = 0; d < D; ++d) dist += std::fabs(S[static_cast<std::size_t>(i) * D + d] - centres[static_cast<std::size_t>(j) * D + d]);
-          duplicate = dist <= 1e-9;  // unit vectors: rounding-level differences are duplicates
-        }
-        minc[i] = duplicate ? 0.0 : (std::isfinite(minc[i]) ? minc[i] - gmin + eps : eps);
-        total += minc[i];
-      }
-      if (!(total > 0.0)) break;  // every proposal is already a centre
-      double r = std::uniform_real_distribution<double>(0.0, total)(rng);
-      std::int32_t pick = -1;
-      for (std::int32_t i = 0; i < n; ++i) {
-        if (!(minc[i] > 0.0)) continue;
-        pick = i;  // the last positive-weight vertex absorbs rounding
-        r -= minc[i];
-        if (r < 0.0) break;
-      }
-      centres.insert(centres.end(), &S[static_cast<std::size_t>(pick) * D], &S[static_cast<std::size_t>(pick) * D] + D);
-    }
-    int K = static_cast<int>(centres.size()) / D;
-    double total = 0.0;
-    for (int iter = 0; iter <= cx.opt.split_values_iter_num; ++iter) {
-      total = 0.0;
-      for (std::int32_t i = 0; i < n; ++i) {
-        int arg = 0;
-        double bc = kInf;
-        for (int k = 0; k < K; ++k) {
-          const double ck = cost(i, &centres[static_cast<std::size_t>(k) * D]);
-          if (ck < bc) { bc = ck; arg = k; }
-        }
-        lab[i] = static_cast<char>(arg);
-        total += bc;
-      }
-      if (iter == cx.opt.split_values_iter_num) break;
-      std::vector<double> next;
-      for (int k = 0; k < K; ++k) {
-        std::vector<double> z(D);
-        if (centre_of(lab, k, z.data())) next.insert(next.end(), z.begin(), z.end());
-      }
-      centres.swap(next);
-      K = static_cast<int>(centres.size()) / D;
-    }
-    if (total < best_total || best_centres.empty()) {
-      best_total = total;
-      best_centres = centres;
-      best_k = static_cast<int>(centres.size()) / D;
-    }
-  }
-  if (best_k < 2) return false;
-  std::vector<double> s0(best_centres.begin(), best_centres.begin() + D), s1(best_centres.begin() + D, best_centres.begin() + 2 * D);
-  if (std::equal(s0.begin(), s0.end(), s1.begin())) return false;
-
-  // Binary min cut between the two directions (§4.4, K = 2), split_iter_num damped rounds.
-  std::vector<char> cut_label(n, 0);
-  const int rounds = std::max(1, cx.opt.split_iter_num);
-  for (int round = 0; round < rounds; ++round) {
-    const double damping = cx.opt.split_damp_ratio + (1.0 - cx.opt.split_damp_ratio) * (round + 1) / rounds;
-    double diff_norm = 0.0;
-    for (int d = 0; d < D; ++d) diff_norm += cx.m[d] * std::fabs(s0[d] - s1[d]);
-    mf.Reset(n);
-    for (std::int32_t i = 0; i < n; ++i) {
-      const double c0 = cost(i, s0.data()), c1 = cost(i, s1.data());
-      double a;
-      if (!std::isfinite(c1)) a = kBigCap;
-      else if (!std::isfinite(c0)) a = -kBigCap;
-      else a = c1 - c0;
-      mf.AddUnary(i, a);
-      const std::int32_t v = verts[i];
-      for (std::int64_t e = cx.pb.first_edge[v]; e < cx.pb.first_edge[v + 1]; ++e) {
-        const std::int32_t u = cx.pb.adj_vertices[e];
-        if (comp[u] != c || u == v) continue;
-        const double cap = damping * cx.pb.edge_weights[e] * diff_norm;
-        if (cap > 0.0) mf.AddEdge(i, local[u], cap, cap);
-      }
-    }
-    mf.Solve();
-    bool changed = false;
-    for (std::int32_t i = 0; i < n; ++i) {
-      const char l = mf.SourceSide(i) ? 0 : 1;  // sink side takes the new direction
-      if (l != cut_label[i]) changed = true;
-      cut_label[i] = l;
-    }
-    if (round + 1 == rounds || (!changed && round > 0)) break;
-    if (!centre_of(cut_label, 0, s0.data()) || !centre_of(cut_label, 1, s1.data())) break;
-  }
-  bool split = false;
-  for (std::int32_t i = 0; i < n; ++i) {
-    label[verts[i]] = cut_label[i];
-    if (cut_label[i] != cut_label[0]) split = true;
-  }
-  return split;
-}
-
 // al-refine extension of §7 (the spec saturates only components whose cut activates no edge). With
 // D = 2 the two candidate directions span the whole tangent cone, so one min cut already is the best
 // two-direction (first-order) split of a component at its value (for D > 2 with K = 2 the rule is a heuristic). When
@@ -291,6 +95,299 @@ int SaturateSplitRemainders(double tol, int D, const std::vector<char>& did_spli
   return count;
 }
 
+
+// The piecewise-constant iterate: the component of each vertex, the components' values, and which
+// components are saturated (not offered to the next split).
+struct Iterate {
+  std::vector<std::int32_t> comp;
+  std::int32_t rV = 1;
+  std::vector<double> rX;
+  std::vector<char> saturated;
+};
+
+// Buffers every split round reuses.
+struct SplitBuffers {
+  std::vector<std::int64_t> cfirst;
+  std::vector<std::int32_t> clist, local;
+  std::vector<char> label;
+  std::vector<MaxFlow> networks;  // one reusable flow network per thread
+};
+
+struct SplitRound {
+  std::vector<char> did_split;
+  bool any_split = false;
+  std::int64_t cut_nodes = 0;  // vertices of the non-saturated components offered to the split
+};
+
+void BuildFullAdjacency(Context& cx) {
+  const SimplexProblem& pb = cx.pb;
+  const std::int64_t V = cx.V;
+  std::vector<std::int64_t> deg(V + 1, 0);
+  for (std::int64_t u = 0; u < V; ++u)
+    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
+      ++deg[u + 1];
+      ++deg[pb.adj_vertices[e] + 1];
+    }
+  for (std::int64_t v = 0; v < V; ++v) deg[v + 1] += deg[v];
+  cx.full_first = deg;
+  cx.full_nbr.resize(deg[V]);
+  cx.full_edge.resize(deg[V]);
+  std::vector<std::int64_t> pos(deg.begin(), deg.end() - 1);
+  for (std::int64_t u = 0; u < V; ++u)
+    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
+      const std::int32_t v = pb.adj_vertices[e];
+      cx.full_nbr[pos[u]] = v;
+      cx.full_edge[pos[u]++] = e;
+      cx.full_nbr[pos[v]] = static_cast<std::int32_t>(u);
+      cx.full_edge[pos[v]++] = e;
+    }
+}
+
+Context MakeContext(const SimplexProblem& pb, const CutPursuitOptions& opt) {
+  const int D = pb.D;
+  const std::int64_t V = pb.num_nodes();
+  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}, {}, {}};
+  if (opt.cp_dif_tol > 0.0 && opt.cp_dif_tol < cx.eps) cx.eps = opt.cp_dif_tol;
+  cx.nw = pb.node_weights.empty() ? std::vector<double>(V, 1.0) : pb.node_weights;
+  cx.m = pb.metric.empty() ? std::vector<double>(D, 1.0) : pb.metric;
+  BuildFullAdjacency(cx);
+  return cx;
+}
+
+PfdrOptions MakePfdrOptions(const CutPursuitOptions& opt, double eps, int threads) {
+  PfdrOptions popt;
+  popt.rho = opt.pfdr_rho;
+  popt.cond_min = opt.pfdr_cond_min;
+  popt.dif_rcd = opt.pfdr_dif_rcd;
+  popt.dif_tol = opt.pfdr_dif_tol >= 0.0 ? opt.pfdr_dif_tol : 1e-2 * opt.cp_dif_tol;
+  popt.it_max = opt.pfdr_it_max;
+  popt.eps = eps;
+  popt.num_threads = threads;
+  return popt;
+}
+
+// One component with the closed-form value (§3.1).
+Iterate InitialIterate(const Context& cx) {
+  const int D = cx.D;
+  Iterate it{std::vector<std::int32_t>(cx.V, 0), 1, std::vector<double>(D), std::vector<char>(1, 0)};
+  std::vector<double> ybar(D, 0.0);
+  double W = 0.0;
+  for (std::int64_t v = 0; v < cx.V; ++v) {
+    W += cx.nw[v];
+    for (int d = 0; d < D; ++d) ybar[d] += cx.nw[v] * cx.pb.y[static_cast<std::size_t>(v) * D + d];
+  }
+  for (int d = 0; d < D; ++d) ybar[d] = W > 0.0 ? ybar[d] / W : 1.0 / D;
+  ClosedFormValue(cx.loss, D, ybar.data(), it.rX.data());
+  return it;
+}
+
+// Splits every non-saturated component (parallel over independent components, largest first for
+// load balance; each writes only its own vertices' labels), then saturates the ones that did not split.
+SplitRound SplitAll(const Context& cx, Iterate& it, SplitBuffers& buf, int threads) {
+  ComponentLists(it.comp, it.rV, buf.cfirst, buf.clist);
+  const auto& cfirst = buf.cfirst;
+  for (std::int32_t c = 0; c < it.rV; ++c)
+    for (std::int64_t k = cfirst[c]; k < cfirst[c + 1]; ++k) buf.local[buf.clist[k]] = static_cast<std::int32_t>(k - cfirst[c]);
+  std::fill(buf.label.begin(), buf.label.end(), 0);
+  SplitRound round;
+  round.did_split.assign(it.rV, 0);
+  std::vector<std::int32_t> order(it.rV);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    return cfirst[a + 1] - cfirst[a] > cfirst[b + 1] - cfirst[b];
+  });
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (std::int32_t oi = 0; oi < it.rV; ++oi) {
+    const std::int32_t c = order[oi];
+    if (it.saturated[c]) continue;
+    std::vector<std::int32_t> verts(buf.clist.begin() + cfirst[c], buf.clist.begin() + cfirst[c + 1]);
+    round.did_split[c] =
+        SplitComponent(cx, c, it.comp, it.rX, verts, buf.local, buf.label, buf.networks[omp_get_thread_num()]) ? 1 : 0;
+  }
+  for (std::int32_t c = 0; c < it.rV; ++c) {
+    if (!it.saturated[c] && cfirst[c + 1] - cfirst[c] > 1) round.cut_nodes += cfirst[c + 1] - cfirst[c];
+    if (!it.saturated[c] && !round.did_split[c]) it.saturated[c] = 1;
+    round.any_split = round.any_split || round.did_split[c];
+  }
+  return round;
+}
+
+// Connected components over edges whose ends share their old component and their split label,
+// numbered by smallest vertex (§5, §12); origin[c] = the old component of new component c.
+std::int32_t BoundComponents(const Context& cx, const std::vector<std::int32_t>& old_comp,
+                             const std::vector<char>& label, std::vector<std::int32_t>& cc,
+                             std::vector<std::int32_t>& origin) {
+  cc.assign(cx.V, -1);
+  std::vector<std::int32_t> queue;
+  std::int32_t nc = 0;
+  for (std::int64_t s = 0; s < cx.V; ++s) {
+    if (cc[s] >= 0) continue;
+    cc[s] = nc;
+    origin.push_back(old_comp[s]);
+    queue.assign(1, static_cast<std::int32_t>(s));
+    for (std::size_t h = 0; h < queue.size(); ++h) {
+      const std::int32_t v = queue[h];
+      for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
+        const std::int32_t u = cx.full_nbr[k];
+        if (cc[u] >= 0 || old_comp[u] != old_comp[v] || label[u] != label[v]) continue;
+        cc[u] = nc;
+        queue.push_back(u);
+      }
+    }
+    ++nc;
+  }
+  return nc;
+}
+
+// Reduced edges (§3.4): the summed weight of the edges between each pair of components, sorted.
+void ReducedEdges(const Context& cx, const std::vector<std::int32_t>& cc, ReducedProblem& rp) {
+  const SimplexProblem& pb = cx.pb;
+  std::vector<std::tuple<std::int32_t, std::int32_t, std::int64_t>> cut;
+  for (std::int64_t u = 0; u < cx.V; ++u)
+    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
+      const std::int32_t v = pb.adj_vertices[e];
+      if (cc[u] == cc[v] || !(pb.edge_weights[e] > 0.0)) continue;
+      cut.emplace_back(std::min(cc[u], cc[v]), std::max(cc[u], cc[v]), e);
+    }
+  std::sort(cut.begin(), cut.end());
+  for (std::size_t i = 0; i < cut.size(); ++i) {
+    const auto& [a, b, e] = cut[i];
+    if (i == 0 || a != rp.ea.back() || b != rp.eb.back()) {
+      rp.ea.push_back(a);
+      rp.eb.push_back(b);
+      rp.omega.push_back(0.0);
+    }
+    rp.omega.back() += pb.edge_weights[e];
+  }
+}
+
+// Reduced observations: the weighted mean of y per component (components of zero total weight
+// carry no data: their unweighted mean). csize = vertices per component.
+void ReducedValues(const Context& cx, const std::vector<std::int32_t>& cc, ReducedProblem& rp,
+                   std::vector<std::int64_t>& csize) {
+  const int D = cx.D;
+  const std::int32_t nc = rp.rV;
+  const std::vector<double>& y = cx.pb.y;
+  rp.W.assign(nc, 0.0);
+  rp.Ybar.assign(static_cast<std::size_t>(nc) * D, 0.0);
+  csize.assign(nc, 0);
+  for (std::int64_t v = 0; v < cx.V; ++v) {
+    const std::int32_t c = cc[v];
+    ++csize[c];
+    rp.W[c] += cx.nw[v];
+    for (int d = 0; d < D; ++d) rp.Ybar[static_cast<std::size_t>(c) * D + d] += cx.nw[v] * y[static_cast<std::size_t>(v) * D + d];
+  }
+  std::vector<double> umean;
+  for (std::int32_t c = 0; c < nc; ++c) {
+    double* ybar = &rp.Ybar[static_cast<std::size_t>(c) * D];
+    if (rp.W[c] > 0.0) {
+      for (int d = 0; d < D; ++d) ybar[d] /= rp.W[c];
+      continue;
+    }
+    if (umean.empty()) {
+      umean.assign(static_cast<std::size_t>(nc) * D, 0.0);
+      for (std::int64_t v = 0; v < cx.V; ++v)
+        for (int d = 0; d < D; ++d) umean[static_cast<std::size_t>(cc[v]) * D + d] += y[static_cast<std::size_t>(v) * D + d];
+    }
+    for (int d = 0; d < D; ++d) ybar[d] = umean[static_cast<std::size_t>(c) * D + d] / csize[c];
+  }
+}
+
+ReducedProblem ReduceGraph(const Context& cx, const std::vector<std::int32_t>& cc, std::int32_t nc,
+                           std::vector<std::int64_t>& csize) {
+  ReducedProblem rp;
+  rp.rV = nc;
+  rp.D = cx.D;
+  rp.metric = cx.m;
+  rp.loss = cx.loss;
+  ReducedEdges(cx, cc, rp);
+  ReducedValues(cx, cc, rp, csize);
+  return rp;
+}
+
+// Union of reduced neighbours whose values differ by at most cp_dif_tol relative to their size
+// (§7): afterwards parent[c] is c's root, the lowest index of its group; merged[root] marks roots
+// that absorbed another.
+void UnionCloseNeighbours(const Context& cx, const ReducedProblem& rp, const std::vector<double>& X,
+                          std::vector<std::int32_t>& parent, std::vector<char>& merged) {
+  const int D = cx.D;
+  auto find = [&](std::int32_t a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  for (std::size_t e = 0; e < rp.ea.size(); ++e) {
+    std::int32_t a = find(rp.ea[e]), b = find(rp.eb[e]);
+    if (a == b) continue;
+    const double* xa = &X[static_cast<std::size_t>(a) * D];
+    const double* xb = &X[static_cast<std::size_t>(b) * D];
+    double dist = 0.0, na = 0.0, nb = 0.0;
+    for (int d = 0; d < D; ++d) {
+      dist += cx.m[d] * std::fabs(xa[d] - xb[d]);
+      na += cx.m[d] * std::fabs(xa[d]);
+      nb += cx.m[d] * std::fabs(xb[d]);
+    }
+    if (dist <= cx.opt.cp_dif_tol * std::max({na, nb, cx.eps})) {
+      if (b < a) std::swap(a, b);
+      parent[b] = a;
+      merged[a] = 1;
+    }
+  }
+  // Every parent has a smaller index than its child, so one ascending pass points each at its root.
+  for (std::size_t c = 0; c < parent.size(); ++c) parent[c] = parent[parent[c]];
+}
+
+// Per piece of the split (c < nc): the old component it came from, its size, and after the merge
+// the final component it belongs to.
+struct Pieces {
+  std::vector<std::int32_t> origin, cc;
+  std::vector<std::int64_t> csize;
+  std::vector<std::int32_t> final_of;
+};
+
+// The merged iterate (§7): values of the roots; a root is saturated iff it is exactly one previous
+// saturated component whose value did not move by more than cp_dif_tol.
+Iterate MergePieces(const Context& cx, const ReducedProblem& rp, const std::vector<double>& X, const Iterate& old,
+                    const std::vector<std::int64_t>& cfirst, Pieces& pieces) {
+  const int D = cx.D;
+  const std::int32_t nc = rp.rV;
+  std::vector<std::int32_t> parent(nc);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<char> merged(nc, 0);
+  UnionCloseNeighbours(cx, rp, X, parent, merged);
+  std::vector<std::int32_t> final_id(nc, -1);
+  Iterate next;
+  next.rV = 0;
+  for (std::int32_t c = 0; c < nc; ++c)
+    if (parent[c] == c) final_id[c] = next.rV++;
+  next.rX.resize(static_cast<std::size_t>(next.rV) * D);
+  next.saturated.assign(next.rV, 0);
+  for (std::int32_t c = 0; c < nc; ++c) {
+    if (parent[c] != c) continue;
+    const std::int32_t f = final_id[c], o = pieces.origin[c];
+    std::copy(&X[static_cast<std::size_t>(c) * D], &X[static_cast<std::size_t>(c) * D] + D, &next.rX[static_cast<std::size_t>(f) * D]);
+    if (merged[c] || !old.saturated[o] || pieces.csize[c] != cfirst[o + 1] - cfirst[o]) continue;
+    double moved = 0.0;
+    for (int d = 0; d < D; ++d) moved += std::fabs(X[static_cast<std::size_t>(c) * D + d] - old.rX[static_cast<std::size_t>(o) * D + d]);
+    next.saturated[f] = moved <= cx.opt.cp_dif_tol ? 1 : 0;
+  }
+  pieces.final_of.resize(nc);
+  for (std::int32_t c = 0; c < nc; ++c) pieces.final_of[c] = final_id[parent[c]];
+  next.comp.resize(cx.V);
+  for (std::int64_t v = 0; v < cx.V; ++v) next.comp[v] = pieces.final_of[pieces.cc[v]];
+  return next;
+}
+
+// Mean l1 change of the vertex values between two iterates (§8), fixed-order sum.
+double Evolution(const Context& cx, const Iterate& now, const Iterate& before) {
+  const int D = cx.D;
+  double total = 0.0;
+  for (std::int64_t v = 0; v < cx.V; ++v) {
+    const double* a = &now.rX[static_cast<std::size_t>(now.comp[v]) * D];
+    const double* b = &before.rX[static_cast<std::size_t>(before.comp[v]) * D];
+    for (int d = 0; d < D; ++d) total += std::fabs(a[d] - b[d]);
+  }
+  return total / static_cast<double>(cx.V);
+}
 }  // namespace
 
 double SimplexObjective(const SimplexProblem& pb, const std::vector<std::int32_t>& comp, const std::vector<double>& rX) {
@@ -318,284 +415,95 @@ double SimplexObjective(const SimplexProblem& pb, const std::vector<std::int32_t
   return data + tv;
 }
 
+namespace {
+
+SplitBuffers MakeSplitBuffers(std::int64_t V, int threads, MaxFlow::Algorithm algorithm) {
+  SplitBuffers buf;
+  buf.local.resize(V);
+  buf.label.resize(V);
+  buf.networks.resize(threads);
+  for (MaxFlow& network : buf.networks) network.set_algorithm(algorithm);
+  return buf;
+}
+
+// One outer iteration from `it` (§3): split, reduce, solve the reduced problem, merge; appends the
+// round's diagnostics, evolution and objective to res. Returns the new iterate.
+Iterate OuterIteration(const Context& cx, const PfdrOptions& popt, Iterate& it, SplitBuffers& buf, int threads,
+                       CutPursuitResult& res, bool& any_split) {
+  Timer phase;
+  const SplitRound round = SplitAll(cx, it, buf, threads);
+  any_split = round.any_split;
+  res.split_nodes.push_back(round.cut_nodes);
+  res.split_seconds.push_back(phase.Seconds());
+  phase.Reset();
+  Pieces pieces;
+  const std::int32_t nc = BoundComponents(cx, it.comp, buf.label, pieces.cc, pieces.origin);
+  const ReducedProblem rp = ReduceGraph(cx, pieces.cc, nc, pieces.csize);
+  res.reduce_seconds.push_back(phase.Seconds());
+  phase.Reset();
+  std::vector<double> X;
+  res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+  res.pfdr_seconds.push_back(phase.Seconds());
+  phase.Reset();
+  Iterate next = MergePieces(cx, rp, X, it, buf.cfirst, pieces);
+  res.dif_history.push_back(Evolution(cx, next, it));
+  if (cx.opt.saturate_split_remainders)
+    res.remainder_saturations += SaturateSplitRemainders(cx.opt.cp_dif_tol, cx.D, round.did_split, buf.cfirst,
+                                                         pieces.origin, pieces.csize, pieces.final_of, next.rX,
+                                                         it.rX, next.saturated);
+  ++res.iterations;
+  const double obj = SimplexObjective(cx.pb, next.comp, next.rX);
+  if (obj > res.objective_history.back())
+    res.warnings.push_back("cut pursuit: objective increased at iteration " + std::to_string(res.iterations) +
+                           " (" + std::to_string(res.objective_history.back()) + " -> " + std::to_string(obj) + ")");
+  res.objective_history.push_back(obj);
+  res.merge_seconds.push_back(phase.Seconds());
+  return next;
+}
+
+}  // namespace
+
 CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions& opt) {
   if (pb.first_edge.empty()) throw Error("cut pursuit: first_edge must hold V + 1 entries");
   Validate(pb);
-  if (opt.K != 2) throw Error("cut pursuit: only K = 2 candidate directions are implemented", ExitCode::kUsage);
-  if (!(opt.cp_dif_tol >= 0.0) || opt.cp_it_max < 0 || opt.pfdr_it_max < 1 || !(opt.pfdr_rho > 0.0 && opt.pfdr_rho < 2.0) ||
-      !(opt.pfdr_cond_min > 0.0 && opt.pfdr_cond_min <= 1.0) || !(opt.split_damp_ratio > 0.0 && opt.split_damp_ratio <= 1.0))
-    throw Error("cut pursuit: option out of range", ExitCode::kUsage);
-
-  const int D = pb.D;
-  const std::int64_t V = pb.num_nodes();
-  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}, {}, {}};
-  if (opt.cp_dif_tol > 0.0 && opt.cp_dif_tol < cx.eps) cx.eps = opt.cp_dif_tol;
-  cx.nw = pb.node_weights.empty() ? std::vector<double>(V, 1.0) : pb.node_weights;
-  cx.m = pb.metric.empty() ? std::vector<double>(D, 1.0) : pb.metric;
-  {
-    std::vector<std::int64_t> deg(V + 1, 0);
-    for (std::int64_t u = 0; u < V; ++u)
-      for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-        ++deg[u + 1];
-        ++deg[pb.adj_vertices[e] + 1];
-      }
-    for (std::int64_t v = 0; v < V; ++v) deg[v + 1] += deg[v];
-    cx.full_first = deg;
-    cx.full_nbr.resize(deg[V]);
-    cx.full_edge.resize(deg[V]);
-    std::vector<std::int64_t> pos(deg.begin(), deg.end() - 1);
-    for (std::int64_t u = 0; u < V; ++u)
-      for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-        const std::int32_t v = pb.adj_vertices[e];
-        cx.full_nbr[pos[u]] = v;
-        cx.full_edge[pos[u]++] = e;
-        cx.full_nbr[pos[v]] = static_cast<std::int32_t>(u);
-        cx.full_edge[pos[v]++] = e;
-      }
-  }
+  opt.Check();
+  const Context cx = MakeContext(pb, opt);
   const int threads = opt.num_threads > 0 ? opt.num_threads : omp_get_max_threads();
-  PfdrOptions popt;
-  popt.rho = opt.pfdr_rho;
-  popt.cond_min = opt.pfdr_cond_min;
-  popt.dif_rcd = opt.pfdr_dif_rcd;
-  popt.dif_tol = opt.pfdr_dif_tol >= 0.0 ? opt.pfdr_dif_tol : 1e-2 * opt.cp_dif_tol;
-  popt.it_max = opt.pfdr_it_max;
-  popt.eps = cx.eps;
-  popt.num_threads = threads;
-
+  const PfdrOptions popt = MakePfdrOptions(opt, cx.eps, threads);
   CutPursuitResult res;
-  if (V == 0) {
+  if (cx.V == 0) {
     res.converged = true;
     res.objective_history.push_back(0.0);
     return res;
   }
-  // One component with the closed-form value (§3.1).
-  std::vector<std::int32_t> comp(V, 0);
-  std::int32_t rV = 1;
-  std::vector<double> rX(D);
-  {
-    std::vector<double> ybar(D, 0.0);
-    double W = 0.0;
-    for (std::int64_t v = 0; v < V; ++v) {
-      W += cx.nw[v];
-      for (int d = 0; d < D; ++d) ybar[d] += cx.nw[v] * pb.y[static_cast<std::size_t>(v) * D + d];
-    }
-    for (int d = 0; d < D; ++d) ybar[d] = W > 0.0 ? ybar[d] / W : 1.0 / D;
-    ClosedFormValue(cx.loss, D, ybar.data(), rX.data());
-  }
-  std::vector<char> saturated(1, 0);
-  res.objective_history.push_back(SimplexObjective(pb, comp, rX));
-  std::vector<std::int32_t> best_comp = comp;
-  std::vector<double> best_rX = rX;
+  Iterate it = InitialIterate(cx);
+  res.objective_history.push_back(SimplexObjective(pb, it.comp, it.rX));
+  Iterate best = it;
   double best_obj = res.objective_history[0];
-
-  double dif = kInf;
-  int it = 0;
+  SplitBuffers buf = MakeSplitBuffers(cx.V, threads, opt.max_flow);
   bool stalled = false;
-  std::vector<std::int64_t> cfirst;
-  std::vector<std::int32_t> clist, local(V);
-  std::vector<char> label(V);
-  std::vector<MaxFlow> networks(threads);  // one reusable flow network per thread
-  for (MaxFlow& network : networks) network.set_algorithm(opt.max_flow);
-  while (it < opt.cp_it_max && dif > opt.cp_dif_tol) {
-    // --- split (parallel over independent components)
-    Timer phase;
-    ComponentLists(comp, rV, cfirst, clist);
-    for (std::int32_t c = 0; c < rV; ++c)
-      for (std::int64_t k = cfirst[c]; k < cfirst[c + 1]; ++k) local[clist[k]] = static_cast<std::int32_t>(k - cfirst[c]);
-    std::fill(label.begin(), label.end(), 0);
-    std::vector<char> did_split(rV, 0);
-    // Largest components first for load balance; each writes only its own vertices.
-    std::vector<std::int32_t> order(rV);
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-      return cfirst[a + 1] - cfirst[a] > cfirst[b + 1] - cfirst[b];
-    });
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (std::int32_t oi = 0; oi < rV; ++oi) {
-      const std::int32_t c = order[oi];
-      if (saturated[c]) continue;
-      std::vector<std::int32_t> verts(clist.begin() + cfirst[c], clist.begin() + cfirst[c + 1]);
-      did_split[c] = SplitComponent(cx, c, comp, rX, verts, local, label, networks[omp_get_thread_num()]) ? 1 : 0;
-    }
+  while (res.iterations < opt.cp_it_max && (res.dif_history.empty() || res.dif_history.back() > opt.cp_dif_tol)) {
     bool any_split = false;
-    std::int64_t cut_nodes = 0;
-    for (std::int32_t c = 0; c < rV; ++c) {
-      if (!saturated[c] && cfirst[c + 1] - cfirst[c] > 1) cut_nodes += cfirst[c + 1] - cfirst[c];
-      if (!saturated[c] && !did_split[c]) saturated[c] = 1;
-      any_split = any_split || did_split[c];
-    }
-    const std::vector<std::int32_t> old_comp = comp;
-    const std::vector<double> old_rX = rX;
-    res.split_nodes.push_back(cut_nodes);
-    res.split_seconds.push_back(phase.Seconds());
-    phase.Reset();
-
-    // --- connected components over bound edges, numbered by smallest vertex (§5, §12)
-    std::vector<std::int32_t> cc(V, -1), queue;
-    std::int32_t nc = 0;
-    std::vector<std::int32_t> origin;
-    for (std::int64_t s = 0; s < V; ++s) {
-      if (cc[s] >= 0) continue;
-      cc[s] = nc;
-      origin.push_back(old_comp[s]);
-      queue.assign(1, static_cast<std::int32_t>(s));
-      for (std::size_t h = 0; h < queue.size(); ++h) {
-        const std::int32_t v = queue[h];
-        for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
-          const std::int32_t u = cx.full_nbr[k];
-          if (cc[u] >= 0 || old_comp[u] != old_comp[v] || label[u] != label[v]) continue;
-          cc[u] = nc;
-          queue.push_back(u);
-        }
-      }
-      ++nc;
-    }
-    // --- reduced graph (§3.4)
-    std::vector<std::tuple<std::int32_t, std::int32_t, std::int64_t>> cut;
-    for (std::int64_t u = 0; u < V; ++u)
-      for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-        const std::int32_t v = pb.adj_vertices[e];
-        if (cc[u] == cc[v] || !(pb.edge_weights[e] > 0.0)) continue;
-        cut.emplace_back(std::min(cc[u], cc[v]), std::max(cc[u], cc[v]), e);
-      }
-    std::sort(cut.begin(), cut.end());
-    ReducedProblem rp;
-    rp.rV = nc;
-    rp.D = D;
-    rp.metric = cx.m;
-    rp.loss = cx.loss;
-    for (std::size_t i = 0; i < cut.size(); ++i) {
-      const auto& [a, b, e] = cut[i];
-      if (i == 0 || a != rp.ea.back() || b != rp.eb.back()) {
-        rp.ea.push_back(a);
-        rp.eb.push_back(b);
-        rp.omega.push_back(0.0);
-      }
-      rp.omega.back() += pb.edge_weights[e];
-    }
-    rp.W.assign(nc, 0.0);
-    rp.Ybar.assign(static_cast<std::size_t>(nc) * D, 0.0);
-    std::vector<std::int64_t> csize(nc, 0);
-    for (std::int64_t v = 0; v < V; ++v) {
-      const std::int32_t c = cc[v];
-      ++csize[c];
-      rp.W[c] += cx.nw[v];
-      for (int d = 0; d < D; ++d) rp.Ybar[static_cast<std::size_t>(c) * D + d] += cx.nw[v] * pb.y[static_cast<std::size_t>(v) * D + d];
-    }
-    // Components of zero total weight carry no data: their unweighted mean is used.
-    std::vector<double> umean;
-    for (std::int32_t c = 0; c < nc; ++c) {
-      if (rp.W[c] > 0.0) {
-        for (int d = 0; d < D; ++d) rp.Ybar[static_cast<std::size_t>(c) * D + d] /= rp.W[c];
-      } else {
-        if (umean.empty()) {
-          umean.assign(static_cast<std::size_t>(nc) * D, 0.0);
-          for (std::int64_t v = 0; v < V; ++v)
-            for (int d = 0; d < D; ++d) umean[static_cast<std::size_t>(cc[v]) * D + d] += pb.y[static_cast<std::size_t>(v) * D + d];
-        }
-        for (int d = 0; d < D; ++d) rp.Ybar[static_cast<std::size_t>(c) * D + d] = umean[static_cast<std::size_t>(c) * D + d] / csize[c];
-      }
-    }
-    res.reduce_seconds.push_back(phase.Seconds());
-    phase.Reset();
-    std::vector<double> X;
-    res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
-    res.pfdr_seconds.push_back(phase.Seconds());
-    phase.Reset();
-
-    // --- merge (§7): chain roots, value of the lowest-index root
-    std::vector<std::int32_t> parent(nc);
-    std::iota(parent.begin(), parent.end(), 0);
-    auto find = [&](std::int32_t a) {
-      while (parent[a] != a) a = parent[a] = parent[parent[a]];
-      return a;
-    };
-    std::vector<char> merged(nc, 0);
-    for (std::size_t e = 0; e < rp.ea.size(); ++e) {
-      std::int32_t a = find(rp.ea[e]), b = find(rp.eb[e]);
-      if (a == b) continue;
-      const double* xa = &X[static_cast<std::size_t>(a) * D];
-      const double* xb = &X[static_cast<std::size_t>(b) * D];
-      double dist = 0.0, na = 0.0, nb = 0.0;
-      for (int d = 0; d < D; ++d) {
-        dist += cx.m[d] * std::fabs(xa[d] - xb[d]);
-        na += cx.m[d] * std::fabs(xa[d]);
-        nb += cx.m[d] * std::fabs(xb[d]);
-      }
-      if (dist <= opt.cp_dif_tol * std::max({na, nb, cx.eps})) {
-        if (b < a) std::swap(a, b);
-        parent[b] = a;
-        merged[a] = 1;
-      }
-    }
-    std::vector<std::int32_t> final_id(nc, -1);
-    std::int32_t nrv = 0;
-    for (std::int32_t c = 0; c < nc; ++c)
-      if (find(c) == c) final_id[c] = nrv++;
-    std::vector<double> new_rX(static_cast<std::size_t>(nrv) * D);
-    std::vector<char> new_sat(nrv, 0);
-    for (std::int32_t c = 0; c < nc; ++c)
-      if (find(c) == c) {
-        const std::int32_t f = final_id[c];
-        std::copy(&X[static_cast<std::size_t>(c) * D], &X[static_cast<std::size_t>(c) * D] + D, &new_rX[static_cast<std::size_t>(f) * D]);
-        // Saturated iff it is exactly one previous saturated component whose value did not move.
-        const std::int32_t o = origin[c];
-        if (!merged[c] && saturated[o] && csize[c] == cfirst[o + 1] - cfirst[o]) {
-          double moved = 0.0;
-          for (int d = 0; d < D; ++d) moved += std::fabs(X[static_cast<std::size_t>(c) * D + d] - old_rX[static_cast<std::size_t>(o) * D + d]);
-          new_sat[f] = moved <= opt.cp_dif_tol ? 1 : 0;
-        }
-      }
-    for (std::int64_t v = 0; v < V; ++v) comp[v] = final_id[find(cc[v])];
-    rV = nrv;
-    rX.swap(new_rX);
-
-    // --- evolution (§8), fixed-order sum
-    double total = 0.0;
-    for (std::int64_t v = 0; v < V; ++v) {
-      const double* a = &rX[static_cast<std::size_t>(comp[v]) * D];
-      const double* b = &old_rX[static_cast<std::size_t>(old_comp[v]) * D];
-      for (int d = 0; d < D; ++d) total += std::fabs(a[d] - b[d]);
-    }
-    dif = total / static_cast<double>(V);
-    if (opt.saturate_split_remainders) {
-      std::vector<std::int32_t> piece_final(nc);
-      for (std::int32_t c = 0; c < nc; ++c) piece_final[c] = final_id[find(c)];
-      res.remainder_saturations +=
-          SaturateSplitRemainders(opt.cp_dif_tol, D, did_split, cfirst, origin, csize, piece_final, rX, old_rX, new_sat);
-    }
-    saturated.swap(new_sat);
-    ++it;
-    res.dif_history.push_back(dif);
-    const double obj = SimplexObjective(pb, comp, rX);
-    if (obj > res.objective_history.back())
-      res.warnings.push_back("cut pursuit: objective increased at iteration " + std::to_string(it) + " (" +
-                             std::to_string(res.objective_history.back()) + " -> " + std::to_string(obj) + ")");
-    res.objective_history.push_back(obj);
-    res.merge_seconds.push_back(phase.Seconds());
-    if (obj < best_obj) {
-      best_obj = obj;
-      best_comp = comp;
-      best_rX = rX;
+    it = OuterIteration(cx, popt, it, buf, threads, res, any_split);
+    if (res.objective_history.back() < best_obj) {
+      best_obj = res.objective_history.back();
+      best = it;
     }
     if (!any_split) {
       stalled = true;
       break;
     }
   }
-  res.iterations = it;
-  res.converged = stalled || dif <= opt.cp_dif_tol;
+  res.converged = stalled || (!res.dif_history.empty() && res.dif_history.back() <= opt.cp_dif_tol);
   if (res.objective_history.back() > best_obj) {
     res.warnings.push_back("cut pursuit: returning the best iterate (F = " + std::to_string(best_obj) +
                            ") instead of the last one (F = " + std::to_string(res.objective_history.back()) + ")");
-    comp = best_comp;
-    rX = best_rX;
-    rV = static_cast<std::int32_t>(rX.size() / D);
+    it = std::move(best);
+    it.rV = static_cast<std::int32_t>(it.rX.size() / cx.D);
   }
-  res.comp_assign = std::move(comp);
-  res.rX = std::move(rX);
-  res.num_components = rV;
+  res.num_components = it.rV;
+  res.comp_assign = std::move(it.comp);
+  res.rX = std::move(it.rX);
   res.objective = std::min(best_obj, res.objective_history.back());
   return res;
 }

@@ -6,7 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "solvers/bk/max_flow.hpp"
+#include "al/core/option_table.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al::cp {
 
@@ -46,6 +47,10 @@ struct CutPursuitOptions {
   // Max-flow algorithm of the splits (JSON "hybrid", "pseudoflow" or "bk"). All return the same cut;
   // BK alone is the pre-pseudoflow baseline of the benchmarks.
   MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
+
+  // The JSON keys of --solver-options, their ranges and help (cut_pursuit_solver.cpp).
+  static const OptionTable<CutPursuitOptions>& Table();
+  void Check() const { Table().Check(*this); }
 };
 
 struct CutPursuitResult {

@@ -5,22 +5,10 @@
 #include <string>
 
 #include "al/core/error.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 namespace {
-
-double Num(const nlohmann::json& v, const std::string& key) {
-  if (!v.is_number()) throw Error("cp solver: option '" + key + "' must be a number", ExitCode::kUsage);
-  return v.get<double>();
-}
-
-int Int(const nlohmann::json& v, const std::string& key) {
-  const double x = Num(v, key);
-  if (x != std::floor(x) || std::fabs(x) > 1e9)
-    throw Error("cp solver: option '" + key + "' must be an integer", ExitCode::kUsage);
-  return static_cast<int>(x);
-}
 
 class CutPursuitSolver final : public Solver {
  public:
@@ -36,7 +24,8 @@ class CutPursuitSolver final : public Solver {
     const std::size_t V = problem.num_nodes();
     out.p.resize(V);
     for (std::size_t v = 0; v < V; ++v) out.p[v] = r.rX[static_cast<std::size_t>(r.comp_assign[v]) * 2];
-    out.objective = r.objective;
+    out.objective = Objective(problem, out.p);  // the one definition (problem.hpp); r.objective is
+                                                // the same energy summed over D-label components
     out.iterations = r.iterations;
     out.converged = r.converged;
     out.objective_history = r.objective_history;
@@ -63,43 +52,35 @@ class CutPursuitSolver final : public Solver {
 
 }  // namespace
 
+const OptionTable<cp::CutPursuitOptions>& cp::CutPursuitOptions::Table() {
+  using O = cp::CutPursuitOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("cp solver")
+          .Real("cp_dif_tol", &O::cp_dif_tol, R::AtLeast(0), "outer stop on the mean l1 change; merge tolerance")
+          .Int("cp_it_max", &O::cp_it_max, R::Closed(0, 1e6), "maximum outer iterations")
+          .Int("K", &O::K, R::Closed(2, 2), "candidate directions per component (only 2 is implemented)")
+          .Int("split_iter_num", &O::split_iter_num, R::Closed(1, 1e6), "partition/update rounds per split")
+          .Real("split_damp_ratio", &O::split_damp_ratio, R::LeftOpen(0, 1), "edge-capacity damping of the first round")
+          .Int("split_values_init_num", &O::split_values_init_num, R::Closed(1, 1e6), "k-means++ restarts")
+          .Int("split_values_iter_num", &O::split_values_iter_num, R::Closed(0, 1e6), "Lloyd iterations per restart")
+          .Real("pfdr_rho", &O::pfdr_rho, R::Open(0, 2), "PFDR relaxation")
+          .Real("pfdr_cond_min", &O::pfdr_cond_min, R::LeftOpen(0, 1), "PFDR preconditioner floor ratio")
+          .Real("pfdr_dif_rcd", &O::pfdr_dif_rcd, R::AtLeast(0), "PFDR reconditioning threshold (0 = never)")
+          .Real("pfdr_dif_tol", &O::pfdr_dif_tol, R::Any(), "PFDR stop; < 0 means 1e-2 * cp_dif_tol")
+          .Int("pfdr_it_max", &O::pfdr_it_max, R::Closed(1, 1e9), "PFDR maximum iterations")
+          .Int("num_threads", &O::num_threads, R::Closed(0, 4096), "0 = OpenMP default; results never depend on it")
+          .Flag("emulate_upstream_projection_bug", &O::emulate_upstream_projection_bug,
+                "reproduce the upstream projection bug (CUT_PURSUIT.md 4.2)")
+          .Flag("saturate_split_remainders", &O::saturate_split_remainders,
+                "saturate a split's remainder that moved by <= cp_dif_tol (docs/solvers.md)")
+          .Choice("max_flow", &O::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the splits; all give the same cut");
+  return table;
+}
+
 cp::CutPursuitOptions ParseCutPursuitOptions(const nlohmann::json& options) {
   cp::CutPursuitOptions o;
-  if (options.is_null()) return o;
-  if (!options.is_object()) throw Error("cp solver: options must be a JSON object", ExitCode::kUsage);
-  for (const auto& [key, v] : options.items()) {
-    if (key == "cp_dif_tol") o.cp_dif_tol = Num(v, key);
-    else if (key == "cp_it_max") o.cp_it_max = Int(v, key);
-    else if (key == "K") o.K = Int(v, key);
-    else if (key == "split_iter_num") o.split_iter_num = Int(v, key);
-    else if (key == "split_damp_ratio") o.split_damp_ratio = Num(v, key);
-    else if (key == "split_values_init_num") o.split_values_init_num = Int(v, key);
-    else if (key == "split_values_iter_num") o.split_values_iter_num = Int(v, key);
-    else if (key == "pfdr_rho") o.pfdr_rho = Num(v, key);
-    else if (key == "pfdr_cond_min") o.pfdr_cond_min = Num(v, key);
-    else if (key == "pfdr_dif_rcd") o.pfdr_dif_rcd = Num(v, key);
-    else if (key == "pfdr_dif_tol") o.pfdr_dif_tol = Num(v, key);
-    else if (key == "pfdr_it_max") o.pfdr_it_max = Int(v, key);
-    else if (key == "num_threads") o.num_threads = Int(v, key);
-    else if (key == "emulate_upstream_projection_bug" || key == "saturate_split_remainders") {
-      if (!v.is_boolean()) throw Error("cp solver: option '" + key + "' must be a boolean", ExitCode::kUsage);
-      (key == "saturate_split_remainders" ? o.saturate_split_remainders : o.emulate_upstream_projection_bug) = v.get<bool>();
-    } else if (key == "max_flow") {
-      const auto algorithm = v.is_string() ? MaxFlow::AlgorithmFromName(v.get<std::string>()) : std::nullopt;
-      if (!algorithm)
-        throw Error("cp solver: option 'max_flow' must be \"hybrid\", \"pseudoflow\" or \"bk\"",
-                    ExitCode::kUsage);
-      o.max_flow = *algorithm;
-    } else {
-      throw Error("cp solver: unknown option '" + key + "'", ExitCode::kUsage);
-    }
-  }
-  if (o.K != 2) throw Error("cp solver: only K = 2 is implemented", ExitCode::kUsage);
-  if (!(o.cp_dif_tol >= 0.0) || o.cp_it_max < 0 || o.split_iter_num < 1 || o.split_values_init_num < 1 ||
-      o.split_values_iter_num < 0 || !(o.split_damp_ratio > 0.0 && o.split_damp_ratio <= 1.0) ||
-      !(o.pfdr_rho > 0.0 && o.pfdr_rho < 2.0) || !(o.pfdr_cond_min > 0.0 && o.pfdr_cond_min <= 1.0) ||
-      !(o.pfdr_dif_rcd >= 0.0) || o.pfdr_it_max < 1 || o.num_threads < 0)
-    throw Error("cp solver: option value out of range", ExitCode::kUsage);
+  cp::CutPursuitOptions::Table().Apply(o, options);
   return o;
 }
 

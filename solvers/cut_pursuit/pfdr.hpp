@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "solvers/cut_pursuit/loss.hpp"
+#include "al/graph/loss.hpp"
 
 namespace al::cp {
 

@@ -12,7 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "al/solver.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "al/core/option_table.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 
@@ -21,6 +22,10 @@ struct ExactOptions {
   std::string pivot = "plateau";   // "plateau" or "bisection"
   // Max-flow of the level cuts (JSON "hybrid", "pseudoflow" or "bk"; all give the same cuts).
   MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
+
+  // The JSON keys of --solver-options, their ranges and help (exact_solver.cpp).
+  static const OptionTable<ExactOptions>& Table();
+  void Check() const { Table().Check(*this); }
 };
 
 struct ExactStats {
@@ -36,8 +41,6 @@ ExactOptions ParseExactOptions(const nlohmann::json& options);
 std::vector<double> SolveExactTwoLabel(const RefineProblem& problem, const ExactOptions& options,
                                        ExactStats* stats = nullptr);
 
-// F(p) with the loss of CUT_PURSUIT.md §1.1 (equals al::Objective for 0 < s < 1), fixed-order sums.
-double TwoLabelObjective(const RefineProblem& problem, const std::vector<double>& p);
 
 std::unique_ptr<Solver> MakeExactSolver(const nlohmann::json& options);
 

@@ -1,5 +1,5 @@
-// `al-refine merge SHARD_DIR... --out DIR`: combine the outputs of sweep shards (dedupe by point
-// id, canonical order, results.csv, charts, report.json). Library: al/refine/sweep.hpp.
+// `al-refine merge SHARD_DIR... --out DIR`: combine the outputs of sweep shards after checking that
+// they are the shards of one sweep and that none is missing (library: al/refine/sweep.hpp).
 #include <iostream>
 
 #include "al/refine/sweep.hpp"
@@ -11,25 +11,32 @@ class MergeCommand : public Command {
  public:
   std::string Name() const override { return "merge"; }
   std::string Description() const override {
-    return "Combine sweep shard directories into one sweep output (results.jsonl/.csv, charts, report.json)";
+    return "Combine the shard folders of one sweep into one sweep output (results.jsonl/.csv, charts, "
+           "report.json); refuses folders of different sweeps and, unless --allow-partial, an incomplete set";
   }
   void Setup(CLI::App& app) override {
-    app.add_option("dirs", dirs_, "Shard output directories (each with results.jsonl)")->required();
-    app.add_option("--out", out_, "Output directory")->required();
+    app.add_option("dirs", o_.shard_dirs, "Shard output folders (each with shard.json and results.jsonl)")->required();
+    app.add_option("--out", o_.out_dir, "Output folder (required unless --check)");
+    app.add_flag("--allow-partial", o_.allow_partial,
+                 "Merge even when shards or points are missing (report.json then says complete: false)");
+    app.add_flag("--check", o_.check_only,
+                 "Only check the set: print missing and incomplete shards (\"incomplete shards: 1 4\"), write "
+                 "nothing; exit 0 when complete, 2 when not");
   }
 
   int Run() override {
-    const MergeResult r = MergeSweeps(dirs_, out_);
+    const MergeResult r = MergeSweeps(o_);
+    std::cout << r.BriefReport();
     for (const auto& w : r.warnings) std::cerr << "warning: " << w << "\n";
-    std::cout << "merged " << dirs_.size() << " directories: " << r.records << " records (" << r.duplicates
-              << " duplicates, " << r.conflicts << " conflicts)\nwrote " << out_ << "/results.jsonl, results.csv, "
-              << "report.json\n";
-    return 0;
+    if (r.written)
+      std::cout << "wrote " << o_.out_dir << "/results.jsonl, results.csv, report.json"
+                << (r.complete ? "" : " (partial: report.json says complete: false)") << "\n";
+    if (r.exit_code != 0) std::cerr << "al-refine merge: error: " << r.message << "\n";
+    return r.exit_code;
   }
 
  private:
-  std::vector<std::string> dirs_;
-  std::string out_;
+  MergeOptions o_;
 };
 
 AL_REGISTER_COMMAND(MergeCommand);

@@ -40,11 +40,13 @@ class SweepCommand : public Command {
     app.add_option("--shard", shard_, "Run only slice i of n (0-based, e.g. 2/8) of the grid x scenes");
     app.add_option("--out", out_, "Output directory (rerunning skips the points already in results.jsonl)")->required();
     app.add_flag("--quiet", quiet_, "No progress lines");
+    app.add_flag("--dry-run", o_.dry_run, "Check the flags, grid, every scene's inputs and --out (a folder of "
+                 "another sweep is refused); print the point counts; run and write nothing");
   }
 
   int Run() override {
     const RefineOptions base = ToRefineOptions(flags_);
-    SweepOptions o;
+    SweepOptions& o = o_;
     o.out_dir = out_;
     if (!manifest_.empty()) {
       if (!base.scene.empty() || !base.removed.empty() || !cameras_.empty() || !object_masks_.empty())
@@ -63,6 +65,11 @@ class SweepCommand : public Command {
     o.eval_views = views_;
     if (!quiet_) o.on_point = PrintProgress;
     const SweepResult r = RunSweep(o);
+    if (o.dry_run) {
+      std::cout << "sweep: dry run: " << r.total << " points, " << r.in_shard << " in shard " << o.shard.ToString()
+                << "; nothing run or written\n";
+      return 0;
+    }
     std::cout << "sweep: " << r.ran << " points run, " << r.already_done << " already done, " << r.in_shard
               << " in shard " << o.shard.ToString() << " of " << r.total << " (" << r.graphs_built
               << " graphs built, " << r.empty_graphs << " empty graphs)\n";
@@ -101,6 +108,7 @@ class SweepCommand : public Command {
   }
 
   RefineFlags flags_;
+  SweepOptions o_;
   std::string grid_, manifest_, name_ = "scene", shard_, out_, cameras_, object_masks_, views_ = "all";
   bool quiet_ = false;
 };

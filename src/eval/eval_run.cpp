@@ -19,7 +19,7 @@
 #include "al/io/ply.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
-#include "al/fixtures/synth.hpp"
+#include "al/metrics/removal_scores.hpp"
 #include "al/io/image.hpp"
 #include "al/metrics/collateral.hpp"
 #include "al/metrics/mask_io.hpp"
@@ -335,7 +335,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   for (std::size_t c = 0; c < nc; ++c) {
     json j = ColumnSummaryJson(columns[c], r.summaries[c], o);
     if (!object.labels.empty() && object.labels.size() == n)
-      j["gt"] = fixtures::ScoreRemoval(columns[c].removed, object.labels, object.object_id,
+      j["gt"] = ScoreRemoval(columns[c].removed, object.labels, object.object_id,
                                        std::vector<float>(scene.opacity_logits.data(),
                                                           scene.opacity_logits.data() + scene.opacity_logits.size()))
                     .ToJson();

@@ -85,6 +85,26 @@ DecisionRule ParseDecisionRule(const std::string& text) {
   return rule;
 }
 
+const OptionTable<DecisionOptions>& DecisionOptions::Table() {
+  OptionField<DecisionOptions> threshold{"threshold", OptionType::kText, "tau in [0, 1] or percentile:P",
+                                         "decision: a number tau or percentile:P (nearest rank over C)",
+                                         false, {}, {}, {}};
+  threshold.get = [](const DecisionOptions& o) { return nlohmann::json(o.rule.ToString()); };
+  threshold.set = [](DecisionOptions& o, const nlohmann::json& v) { o.rule = ParseDecisionRule(v.get<std::string>()); };
+  threshold.in_range = [](const DecisionOptions& o) {
+    return o.rule.kind == DecisionRule::Kind::kPercentile ? o.rule.percentile >= 0 && o.rule.percentile <= 100
+                                                          : o.rule.threshold >= 0.0 && o.rule.threshold <= 1.0;
+  };
+  static const auto table =
+      OptionTable<DecisionOptions>("decision")
+          .Custom(std::move(threshold))
+          .Switch("restore", &DecisionOptions::restore, "also let removed Gaussians with p < tau return")
+          .Real("min_segment_share", &DecisionOptions::min_segment_share, NumericRange::Closed(0, 1),
+                "segment rule: add only to graph components the method removed at least this share of "
+                "(0 = SPEC 5's plain rule)");
+  return table;
+}
+
 DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProblem& problem,
                              const std::vector<double>& p, const DecisionOptions& options) {
   const std::size_t V = problem.num_nodes();

@@ -5,7 +5,7 @@
 set -euo pipefail
 BIN="$1"
 T=$(mktemp -d)
-trap 'rm -rf "$T"' EXIT
+trap '[ -n "${KEEP:-}" ] || rm -rf "$T"' EXIT
 "$BIN" synth --preset room --gaussians 12000 --seed 3 --views 2 --resolution 32x24 --no-masks --quiet --out "$T/s" >/dev/null
 ARGS=(--scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --labels "$T/s/labels.npy"
       --grid "k=4,6;delta=0.8,1.0;lambda=0.5,2;solver=bk,cp" --solver-options '{"cp": {"cp_it_max": 3}}')
@@ -96,3 +96,58 @@ set +e
 "$BIN" merge "$T/s" --out "$T/bad" >/dev/null 2>&1; [ $? -eq 2 ] || { echo "FAIL: merge of a non-sweep dir"; exit 1; }
 [ ! -e "$T/bad/results.jsonl" ] || { echo "FAIL: output written on bad input"; exit 1; }
 echo "bad input ok"
+
+# merge checks its inputs (issue #18): every folder must be a shard of one sweep (shard.json), and
+# a set with a shard or a point missing is refused unless --allow-partial.
+expect_refusal() {  # expect_refusal NAME PATTERN COMMAND...: exit 2, PATTERN on stdout+stderr, no output folder
+  local name="$1" pattern="$2" rc
+  shift 2
+  set +e
+  "$@" >"$T/$name.out" 2>&1
+  rc=$?
+  set -e
+  [ $rc -eq 2 ] && grep -q -- "$pattern" "$T/$name.out" || { cat "$T/$name.out"; echo "FAIL: $name (rc $rc, expected 2 and '$pattern')"; exit 1; }
+  [ ! -e "$T/m_$name" ] || { echo "FAIL: $name: a refused merge wrote an output"; exit 1; }
+}
+expect_refusal missing "^incomplete shards: 1$" "$BIN" merge "$T/shard0" "$T/shard2" --out "$T/m_missing"
+grep -q "no folder for shard 1 (of 3)" "$T/missing.out" || { echo "FAIL: the missing shard is not named"; exit 1; }
+"$BIN" merge "$T/shard0" "$T/shard2" --allow-partial --out "$T/partial" >"$T/partial.out" 2>&1
+"$BIN" merge "$T/shard0" "$T/shard1" "$T/shard2" --check >"$T/check.out"
+grep -q "16 of 16 points .*: complete" "$T/check.out" || { cat "$T/check.out"; echo "FAIL: --check"; exit 1; }
+cp -r "$T/shard1" "$T/cut1"   # a killed shard: 2 of its 5 points written
+head -n 2 "$T/shard1/results.jsonl" >"$T/cut1/results.jsonl"
+expect_refusal cut "cut1: 2 of 5 points" "$BIN" merge "$T/shard0" "$T/cut1" "$T/shard2" --out "$T/m_cut"
+grep -q "^incomplete shards: 1$" "$T/cut.out" || { echo "FAIL: the partial shard is not listed"; exit 1; }
+# Shards of other sweeps: another grid, another shard count (a stale folder), other fixed flags, another binary.
+"$BIN" sweep "${ARGS[@]/k=4,6/k=4,8}" --quiet --shard 1/3 --out "$T/grid1" >/dev/null
+expect_refusal grid "grid (k: \[4,6\] vs \[4,8\])" "$BIN" merge "$T/shard0" "$T/grid1" "$T/shard2" --out "$T/m_grid"
+"$BIN" sweep "${ARGS[@]}" --quiet --shard 3/4 --out "$T/n4" >/dev/null
+expect_refusal count "shard count (3 vs 4)" "$BIN" merge "$T/shard0" "$T/shard1" "$T/shard2" "$T/n4" --out "$T/m_count"
+"$BIN" sweep "${ARGS[@]/cp_it_max\": 3/cp_it_max\": 4}" --quiet --shard 1/3 --out "$T/flags1" >/dev/null
+expect_refusal flags "fixed flags (solver_options.cp.cp_it_max: 3 vs 4)" "$BIN" merge "$T/shard0" "$T/flags1" "$T/shard2" --out "$T/m_flags"
+cp -r "$T/shard1" "$T/bin1"
+python3 -c "import json,sys; p=sys.argv[1]; j=json.load(open(p)); j['binary']['sha256']='0'*64; json.dump(j, open(p,'w'))" "$T/bin1/shard.json"
+expect_refusal binary "binary (sha256: " "$BIN" merge "$T/shard0" "$T/bin1" "$T/shard2" --out "$T/m_binary"
+# sweep will not resume a folder of another sweep or shard; an unsharded run may grow its grid.
+expect_refusal resume_grid "already holds another shard or sweep (there vs here: grid" "$BIN" sweep "${ARGS[@]/k=4,6/k=4,8}" --quiet --shard 0/3 --out "$T/shard0"
+expect_refusal resume_shard "shard (0/3 vs 1/3)" "$BIN" sweep "${ARGS[@]}" --quiet --shard 1/3 --out "$T/shard0"
+"$BIN" sweep "${ARGS[@]/k=4,6/k=4,6,8}" --quiet --out "$T/full" >"$T/grow.out"
+grep -q "^sweep: 8 points run, 16 already done" "$T/grow.out" || { cat "$T/grow.out"; echo "FAIL: a grown grid did not resume"; exit 1; }
+"$BIN" sweep "${ARGS[@]}" --dry-run --shard 2/3 --out "$T/dry" >"$T/dry.out"
+grep -q "dry run: 16 points, 6 in shard 2/3" "$T/dry.out" && [ ! -e "$T/dry" ] || { cat "$T/dry.out"; echo "FAIL: --dry-run"; exit 1; }
+python3 - "$T" <<'PY'
+import json, sys, os
+T = sys.argv[1]
+def fail(msg): print('FAIL:', msg); sys.exit(1)
+rep = json.load(open(os.path.join(T, 'partial', 'report.json')))
+if rep['complete'] is not False or rep['missing_shards'] != [1] or rep['counts']['points_found'] != 11:
+    fail('partial merge report: complete %s, missing %s, counts %s' % (rep['complete'], rep['missing_shards'], rep['counts']))
+if sum(1 for _ in open(os.path.join(T, 'partial', 'results.jsonl'))) != 11: fail('partial merge records')
+rep = json.load(open(os.path.join(T, 'merged', 'report.json')))
+if rep['complete'] is not True or rep['counts']['points_total'] != 16 or rep['sweep']['shard_count'] != 3:
+    fail('complete merge report %s' % rep['counts'])
+info = json.load(open(os.path.join(T, 'shard2', 'shard.json')))
+if (info['shard'], info['points_total'], info['first_point'], info['points_in_shard']) != ('2/3', 16, 10, 6): fail('shard.json %s' % info)
+if len(info['binary']['sha256']) != 64 or not info['scenes'][0]['inputs']['scene']['sha256']: fail('shard.json identity')
+print('merge checks ok: missing, partial, grid, shard count, flags, binary refused; --allow-partial, --check, --dry-run')
+PY

@@ -11,7 +11,7 @@
 #include "al/graph/problem.hpp"
 #include "al/solver.hpp"
 #include "solvers/bk/bk_solver.hpp"
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace {
 

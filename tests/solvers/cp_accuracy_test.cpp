@@ -7,7 +7,7 @@
 
 #include "al/solver.hpp"
 #include "solvers/cut_pursuit/cut_pursuit_solver.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "al/fixtures/knn_problem.hpp"
 #include "solvers/exact/exact_solver.hpp"
 
 namespace al {
@@ -15,7 +15,7 @@ namespace {
 
 // Brute-force minimiser of F for two nodes joined by one edge: nested ternary searches (F convex).
 std::pair<double, double> TwoNodeBruteForce(const RefineProblem& pb) {
-  auto F = [&](double a, double b) { return TwoLabelObjective(pb, {a, b}); };
+  auto F = [&](double a, double b) { return Objective(pb, {a, b}); };
   auto inner = [&](double a) {
     double lo = 0.0, hi = 1.0;
     for (int i = 0; i < 100; ++i) {
@@ -56,14 +56,14 @@ TEST(CpAccuracy, TwoNodeClosedForm) {
       EXPECT_NEAR(ex.p[1], b, 1e-6) << "s=" << s << " w=" << w;
       EXPECT_NEAR(cpr.p[0], a, 1e-4) << "s=" << s << " w=" << w;
       EXPECT_NEAR(cpr.p[1], b, 1e-4) << "s=" << s << " w=" << w;
-      const double fb = TwoLabelObjective(pb, {a, b});
+      const double fb = Objective(pb, {a, b});
       EXPECT_LE(ex.objective, fb + 1e-9);
       EXPECT_LE(cpr.objective, fb * (1 + 1e-6) + 1e-9);
     }
 }
 
 TEST(CpAccuracy, ObjectiveMatchesContract) {
-  const RefineProblem pb = cp::MakeKnnProblem(500, 6, 0.1, 0.1, false, 3);
+  const RefineProblem pb = fixtures::MakeKnnProblem(500, 6, 0.1, 0.1, false, 3);
   const SolverResult r = MakeSolver("cp")->Solve(pb);
   EXPECT_NEAR(r.objective, Objective(pb, r.p), 1e-10 * r.objective);
   const SolverResult e = MakeSolver("exact")->Solve(pb);
@@ -80,7 +80,7 @@ class CpVsExact : public ::testing::TestWithParam<Case> {};
 
 TEST_P(CpVsExact, WithinOneThousandth) {
   const Case c = GetParam();
-  const RefineProblem pb = cp::MakeKnnProblem(c.n, 10, 0.1, c.s, c.one_hot, 1234 + c.n);
+  const RefineProblem pb = fixtures::MakeKnnProblem(c.n, 10, 0.1, c.s, c.one_hot, 1234 + c.n);
   const SolverResult ex = MakeSolver("exact")->Solve(pb);
   const SolverResult cpr = MakeSolver("cp")->Solve(pb);
   const double gap = (cpr.objective - ex.objective) / ex.objective;
@@ -95,7 +95,7 @@ INSTANTIATE_TEST_SUITE_P(Knn, CpVsExact,
                                            Case{10000, 0.1, true}, Case{20000, 0.5, false}));
 
 TEST(CpAccuracy, ExactBisectionAgreesWithPlateau) {
-  const RefineProblem pb = cp::MakeKnnProblem(1500, 8, 0.1, 0.2, true, 77);
+  const RefineProblem pb = fixtures::MakeKnnProblem(1500, 8, 0.1, 0.2, true, 77);
   const SolverResult a = MakeSolver("exact")->Solve(pb);
   const SolverResult b = MakeSolver("exact", {{"pivot", "bisection"}})->Solve(pb);
   EXPECT_NEAR(a.objective, b.objective, 1e-9 * a.objective);
@@ -108,7 +108,7 @@ TEST(CpAccuracy, BkIntegralBoundsExact) {
   const auto names = SolverNames();
   if (std::find(names.begin(), names.end(), "bk") == names.end()) GTEST_SKIP() << "bk not registered";
   for (bool one_hot : {false, true}) {
-    const RefineProblem pb = cp::MakeKnnProblem(3000, 10, 0.1, 0.1, one_hot, 5);
+    const RefineProblem pb = fixtures::MakeKnnProblem(3000, 10, 0.1, 0.1, one_hot, 5);
     const SolverResult ex = MakeSolver("exact")->Solve(pb);
     const SolverResult bk = MakeSolver("bk")->Solve(pb);
     EXPECT_GE(Objective(pb, bk.p), ex.objective * (1 - 1e-12));

@@ -9,14 +9,14 @@
 #include "al/core/error.hpp"
 #include "al/graph/problem_io.hpp"
 #include "al/io/npy.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "al/fixtures/knn_problem.hpp"
 #include "test_data.hpp"
 
 namespace al {
 namespace {
 
 TEST(CpProblemIo, RoundTrip) {
-  RefineProblem pb = cp::MakeKnnProblem(200, 5, 0.1, 0.25, true, 8);
+  RefineProblem pb = fixtures::MakeKnnProblem(200, 5, 0.1, 0.25, true, 8);
   for (std::size_t v = 0; v < pb.num_nodes(); ++v) pb.node_ids[v] = 1000 + 3 * v;
   pb.node_weights[3] = 2.5;
   std::vector<double> p(pb.num_nodes());
@@ -42,7 +42,7 @@ TEST(CpProblemIo, RoundTrip) {
 }
 
 TEST(CpProblemIo, RejectsCorruptExport) {
-  const RefineProblem pb = cp::MakeKnnProblem(50, 4, 0.1, 0.1, false, 9);
+  const RefineProblem pb = fixtures::MakeKnnProblem(50, 4, 0.1, 0.1, false, 9);
   const auto dir = test::TempDir();
   ExportProblem(pb, nullptr, dir.string());
   EXPECT_FALSE(std::filesystem::exists(dir / "p.npy"));

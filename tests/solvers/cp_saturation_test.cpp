@@ -9,7 +9,7 @@
 #include "al/solver.hpp"
 #include "solvers/cut_pursuit/cut_pursuit.hpp"
 #include "solvers/cut_pursuit/cut_pursuit_solver.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "al/fixtures/knn_problem.hpp"
 
 namespace al {
 namespace {
@@ -25,7 +25,7 @@ cp::CutPursuitResult RunCp(const cp::SimplexProblem& sp, bool rule, int threads)
 
 TEST(CpSaturation, RemaindersSaturatedWithLessWorkAndSameAccuracy) {
   // The bench's setting (soft y, s = 0.1, w_e = 0.1) at 20k nodes: one large near-constant component.
-  const RefineProblem pb = cp::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 2024);
+  const RefineProblem pb = fixtures::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 2024);
   const cp::SimplexProblem sp = ToSimplexProblem(pb);
   const double exact = MakeSolver("exact")->Solve(pb).objective;
   const cp::CutPursuitResult on = RunCp(sp, true, 1), off = RunCp(sp, false, 1);

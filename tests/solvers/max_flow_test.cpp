@@ -1,4 +1,4 @@
-// The shared max-flow (solvers/bk/max_flow.hpp), for each of its algorithms (the default hybrid,
+// The shared max-flow (solvers/max_flow/max_flow.hpp), for each of its algorithms (the default hybrid,
 // pseudoflow then BK, BK alone): against brute force on small random networks (cut value, and the
 // returned source side is exactly the smallest minimum-cut source set when capacities are small
 // integers, so arithmetic is exact), one network object reused across differently sized problems
@@ -15,9 +15,9 @@
 
 #include <gtest/gtest.h>
 
-#include "solvers/bk/max_flow.hpp"
-#include "solvers/cut_pursuit/loss.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "solvers/max_flow/max_flow.hpp"
+#include "al/graph/loss.hpp"
+#include "al/fixtures/knn_problem.hpp"
 
 namespace {
 
@@ -171,8 +171,8 @@ INSTANTIATE_TEST_SUITE_P(Algorithms, MaxFlowAlgorithm, ::testing::ValuesIn(kAlgo
 // and the flow has to travel across the graph, as in cut pursuit's re-splits (BK needs many sweeps,
 // so the hybrid hands over to pseudoflow). All algorithms return the same source side and cut value.
 TEST(MaxFlow, AlgorithmsAgreeOnKnnCuts) {
-  const al::RefineProblem pb = al::cp::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 11);
-  const al::cp::Loss loss{0.1, 2};
+  const al::RefineProblem pb = al::fixtures::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 11);
+  const al::Loss loss{0.1, 2};
   const std::int32_t V = static_cast<std::int32_t>(pb.num_nodes());
   std::vector<std::vector<double>> unaries;
   for (double t : {0.3, 0.45, 0.6}) {
@@ -217,8 +217,8 @@ TEST(MaxFlow, AlgorithmsAgreeOnKnnCuts) {
 }
 
 TEST(MaxFlow, AgreesWithBoostOnKnnLevelCut) {
-  const al::RefineProblem pb = al::cp::MakeKnnProblem(3000, 10, 0.1, 0.1, false, 7);
-  const al::cp::Loss loss{0.1, 2};
+  const al::RefineProblem pb = al::fixtures::MakeKnnProblem(3000, 10, 0.1, 0.1, false, 7);
+  const al::Loss loss{0.1, 2};
   const std::size_t V = pb.num_nodes();
   for (double t : {0.3, 0.4, 0.5, 0.6}) {
     std::vector<double> src(V), snk(V), cap(pb.adj_vertices.size(), 0.2);

@@ -1,4 +1,4 @@
-// The "max_flow" option of cp and exact (solvers/bk/max_flow.hpp algorithms): every algorithm returns
+// The "max_flow" option of cp and exact (solvers/max_flow/max_flow.hpp algorithms): every algorithm returns
 // the same minimum cut, so cut pursuit must take the same partitions (bit-identical values and
 // objective history) and the exact solver the same solution whichever runs the cuts ("pseudoflow"
 // sends every cut through the pseudoflow phase, "bk" none). Bad values are usage errors.
@@ -10,7 +10,7 @@
 #include "al/solver.hpp"
 #include "solvers/cut_pursuit/cut_pursuit.hpp"
 #include "solvers/cut_pursuit/cut_pursuit_solver.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "al/fixtures/knn_problem.hpp"
 
 namespace al {
 namespace {
@@ -22,7 +22,7 @@ const MaxFlow::Algorithm kAlgorithmValues[] = {MaxFlow::Algorithm::kHybrid,
 
 TEST(MaxFlowOption, CutPursuitTakesTheSameSplitsWithEveryAlgorithm) {
   for (bool one_hot : {false, true}) {
-    const RefineProblem pb = cp::MakeKnnProblem(20000, 10, 0.1, 0.1, one_hot, 2024);
+    const RefineProblem pb = fixtures::MakeKnnProblem(20000, 10, 0.1, 0.1, one_hot, 2024);
     const cp::SimplexProblem sp = ToSimplexProblem(pb);
     cp::CutPursuitResult results[3];
     for (int a = 0; a < 3; ++a) {
@@ -41,7 +41,7 @@ TEST(MaxFlowOption, CutPursuitTakesTheSameSplitsWithEveryAlgorithm) {
 }
 
 TEST(MaxFlowOption, ExactSolverGivesTheSameSolutionWithEveryAlgorithm) {
-  const RefineProblem pb = cp::MakeKnnProblem(10000, 10, 0.1, 0.1, false, 7);
+  const RefineProblem pb = fixtures::MakeKnnProblem(10000, 10, 0.1, 0.1, false, 7);
   const SolverResult ref = MakeSolver("exact", {{"max_flow", "bk"}})->Solve(pb);
   for (const char* name : {"hybrid", "pseudoflow"}) {
     const SolverResult r = MakeSolver("exact", {{"max_flow", name}})->Solve(pb);

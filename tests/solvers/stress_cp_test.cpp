@@ -10,7 +10,7 @@
 #include "al/solver.hpp"
 #include "solvers/cut_pursuit/cut_pursuit.hpp"
 #include "solvers/cut_pursuit/cut_pursuit_solver.hpp"
-#include "solvers/cut_pursuit/synthetic_knn.hpp"
+#include "al/fixtures/knn_problem.hpp"
 #include "solvers/exact/exact_solver.hpp"
 
 namespace al {
@@ -59,12 +59,12 @@ RefineProblem Chain(int n, double w) {
 const double kSmoothings[] = {1e-6, 1e-3, 0.1, 0.5, 0.99, 1.0};
 
 TEST(StressCp, SmoothingRangeOnKnn) {
-  const RefineProblem pb = cp::MakeKnnProblem(400, 8, 0.1, 0.1, true, 9);
+  const RefineProblem pb = fixtures::MakeKnnProblem(400, 8, 0.1, 0.1, true, 9);
   for (double s : kSmoothings) CheckSane(pb, s, "knn s=" + std::to_string(s));
 }
 
 TEST(StressCp, ExtremeWeights) {
-  RefineProblem pb = cp::MakeKnnProblem(300, 6, 1.0, 0.1, true, 10);
+  RefineProblem pb = fixtures::MakeKnnProblem(300, 6, 1.0, 0.1, true, 10);
   std::mt19937_64 rng(4);
   std::uniform_real_distribution<double> ex(-8.0, 8.0);
   for (double& w : pb.edge_weights) w = std::pow(10.0, ex(rng));
@@ -117,7 +117,7 @@ TEST(StressCp, IsolatedNodesAndManyComponents) {
 
 TEST(StressCp, GeneralDSimplex) {
   // D = 3 on a kNN graph: rows stay on the simplex, objective never above the start.
-  const RefineProblem base = cp::MakeKnnProblem(300, 6, 0.05, 0.2, false, 21);
+  const RefineProblem base = fixtures::MakeKnnProblem(300, 6, 0.05, 0.2, false, 21);
   cp::SimplexProblem sp;
   sp.D = 3;
   sp.first_edge = base.first_edge;
@@ -137,7 +137,7 @@ TEST(StressCp, GeneralDSimplex) {
 }
 
 TEST(StressCp, DeterministicAcrossThreads) {
-  const RefineProblem pb = cp::MakeKnnProblem(4000, 10, 0.1, 0.1, false, 33);
+  const RefineProblem pb = fixtures::MakeKnnProblem(4000, 10, 0.1, 0.1, false, 33);
   const cp::SimplexProblem sp = ToSimplexProblem(pb);
   cp::CutPursuitOptions o1, o2;
   o1.num_threads = 1;
@@ -179,7 +179,7 @@ TEST(StressCp, ProjectDirectionIsTangent) {
 }
 
 TEST(StressCp, CorrectProjectionBeatsUpstreamBug) {
-  const RefineProblem pb = cp::MakeKnnProblem(3000, 10, 0.1, 0.1, false, 44);
+  const RefineProblem pb = fixtures::MakeKnnProblem(3000, 10, 0.1, 0.1, false, 44);
   const SolverResult good = MakeSolver("cp")->Solve(pb);
   const SolverResult bad = MakeSolver("cp", {{"emulate_upstream_projection_bug", true}})->Solve(pb);
   EXPECT_LE(good.objective, bad.objective * (1 + 1e-12));

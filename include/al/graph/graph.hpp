@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
 
@@ -31,6 +32,10 @@ struct GraphOptions {
   // Features: true = L2-normalise rows, zero-norm rows get no edges (semantic features);
   // false = raw Euclidean distance (colour fallback, SPEC §3).
   bool normalize_features = true;
+
+  // The user-settable fields (normalize_features is set by the feature source, not by users).
+  static const OptionTable<GraphOptions>& Table();
+  void Check() const;  // the table's ranges, and delta in [-1, 1] in cosine mode
 };
 
 struct GraphStats {

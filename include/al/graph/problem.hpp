@@ -22,11 +22,17 @@ struct RefineProblem {
   double kl_smoothing = 0.1;              // s of the smoothed KL (CUT_PURSUIT.md)
 };
 
-// Smoothed KL of two-label distributions (remove, keep): KL(s u + (1-s) y || s u + (1-s) x),
-// u uniform; includes the entropy constant. s = 1 degenerates; callers use s in (0, 1).
-double SmoothedKl2(double y_remove, double x_remove, double s);
+// The energy every solver minimises, defined here once (SPEC §5; the per-coordinate loss is
+// al::Loss, al/graph/loss.hpp, shared with cut pursuit's D-label iterations):
+//   F(p) = sum_v w_v [l_s(y_v, p_v) + l_s(1 - y_v, 1 - p_v)] + sum_uv w_uv 2 |p_u - p_v|,
+// p_v = x_v,remove. For 0 < s < 1, l_s is the smoothed KL: KL(s u + (1-s) y || s u + (1-s) x), u
+// uniform; s = 0 is linear and s = 1 quadratic (CUT_PURSUIT.md §1.1). Every solver reports
+// Objective(problem, p) of the p it returns, so reports, compare and sweep compare like with like.
 
-// F(p) for p_v = x_v,remove (two labels: sum_d |x_ud - x_vd| = 2 |p_u - p_v|).
+// The data term of one node (unweighted), two labels (remove, keep).
+double DataTerm2(double y_remove, double x_remove, double s);
+
+// F(p), summed in a fixed order (independent of the thread count). Empty node_weights = all 1.
 double Objective(const RefineProblem& problem, const std::vector<double>& p);
 
 }  // namespace al

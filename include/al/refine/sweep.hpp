@@ -124,6 +124,7 @@ struct SweepOptions {
   nlohmann::json solver_options = nlohmann::json::object();  // {solver name: options}
   std::string eval_views = "all";      // views evaluated when a scene has cameras
   std::function<void(const SweepProgress&)> on_point;        // progress (one call per point)
+  bool dry_run = false;                // check options, every scene's inputs and out_dir; run and write nothing
 };
 
 struct SweepResult {
@@ -138,7 +139,8 @@ struct SweepResult {
 // Runs the shard's points not yet in out_dir/results.jsonl, appending one flushed line per point
 // (a killed run loses at most the point it was computing), then rewrites results.csv, the charts
 // and report.json from every record in results.jsonl. Validates options and inputs (al::Error)
-// before appending anything.
+// before appending anything, writes out_dir/shard.json (ShardInfo) before the first point and
+// refuses an out_dir whose shard.json is another sweep's or shard's.
 SweepResult RunSweep(const SweepOptions& options);
 
 // ---- results.jsonl and the derived outputs (shared by sweep and merge)
@@ -171,17 +173,86 @@ std::string ResultsCsv(const std::vector<nlohmann::json>& records);
 nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records,
                                    bool charts = true);
 
-// ---- merge
+// ---- shard.json: which sweep an output folder is a slice of
 
-struct MergeResult {
-  std::size_t records = 0, duplicates = 0, conflicts = 0;
-  std::vector<std::string> warnings;
-  nlohmann::json report;
+// Written by RunSweep into --out before its first point, so that even a killed shard says which
+// sweep it belongs to. merge refuses folders whose sweeps differ; sweep refuses to resume a folder
+// of another sweep (except an unsharded run whose grid grew).
+struct ShardInfo {
+  Shard shard;
+  std::size_t points_total = 0;          // scenes × grid points
+  std::size_t first = 0, end = 0;        // this shard's jobs [first, end) (ShardRange)
+  nlohmann::json grid;                   // the axes (GridToJson)
+  nlohmann::json scenes;                 // per scene: name, fixed refine flags, inputs (absolute
+                                         // path, bytes, sha256 for files up to 64 MiB)
+  nlohmann::json fixed;                  // sweep-wide flags: solver_options, eval_views
+  nlohmann::json binary;                 // {version, sha256 of the executable}
+  nlohmann::json ToJson() const;
+  std::size_t points_in_shard() const { return end - first; }
 };
 
-// Combines the results.jsonl of shard directories into out_dir: deduplicated by id (first
-// occurrence wins; a duplicate whose non-timing content differs is counted as a conflict and
-// warned about), canonical order, results.csv, charts, report.json.
-MergeResult MergeSweeps(const std::vector<std::string>& shard_dirs, const std::string& out_dir);
+nlohmann::json GridToJson(const SweepGrid& grid);
+SweepGrid GridFromJson(const nlohmann::json& grid);  // throws al::Error (bad input)
+
+// The identity of options' sweep and shard (hashes the scenes' inputs of up to 64 MiB).
+ShardInfo MakeShardInfo(const SweepOptions& options);
+
+// DIR/shard.json. Throws al::Error (bad input) naming the folder when it is absent or malformed.
+ShardInfo ReadShardInfo(const std::string& dir);
+void WriteShardInfo(const std::string& dir, const ShardInfo& info);
+
+// What differs between the sweeps of a and b, one entry per group in the order shard count, grid,
+// scenes, fixed flags, binary, each with its first differing value: "grid (k: [6,10] vs [6,14])".
+// Empty when a and b are slices of one sweep (their shard indices may differ).
+std::vector<std::string> SweepDifferences(const ShardInfo& a, const ShardInfo& b);
+
+// The point ids of jobs [first, end) of info's sweep (scenes outermost, then EnumeratePoints).
+std::vector<std::string> SweepPointIds(const ShardInfo& info, std::size_t first, std::size_t end);
+
+// ---- merge
+
+struct MergeOptions {
+  std::vector<std::string> shard_dirs;   // sweep outputs, each with shard.json and results.jsonl
+  std::string out_dir;                   // required unless check_only
+  bool allow_partial = false;            // merge an incomplete set (report: complete false)
+  bool check_only = false;               // only report the set's status; write nothing
+  void Check() const;                    // al::Error (usage)
+};
+
+// One shard folder given to merge.
+struct MergedShard {
+  std::string dir;
+  Shard shard;
+  std::size_t points_in_shard = 0;
+  std::size_t points_found = 0;          // this folder's records that are points of its slice
+  std::size_t records = 0;
+  bool truncated_tail = false;           // a killed writer's half line at the end
+  nlohmann::json ToJson() const;
+};
+
+struct MergeResult {
+  bool complete = false;                 // every shard present and every point found
+  bool written = false;                  // out_dir written (complete, or allow_partial)
+  int exit_code = 0;                     // 0, or 2 for an incomplete set without allow_partial
+  std::string message;                   // why the exit code is not 0
+  std::size_t shard_count = 0, points_total = 0, points_found = 0;
+  std::size_t records = 0, duplicates = 0, conflicts = 0;
+  std::size_t foreign_records = 0;       // ids that are not points of the sweep (left out)
+  std::vector<MergedShard> shards;       // in the order given
+  std::vector<std::size_t> missing_shards;     // indices no folder was given for
+  std::vector<std::size_t> incomplete_shards;  // indices with a point not found (missing ones too)
+  std::vector<std::string> warnings;
+  nlohmann::json report;                 // exactly what was written to report.json (when written)
+  std::string BriefReport() const;       // status lines, incl. "incomplete shards: 1 4" when any
+};
+
+// Combines the results.jsonl of shard folders into out_dir. First checks that every folder is a
+// shard of one sweep (shard.json: shard count, grid, scenes, fixed flags, binary; al::Error exit 2
+// naming what differs), then which shards and points are missing. An incomplete set is written
+// only with allow_partial (report.json: complete false); otherwise nothing is written and
+// exit_code is 2. Records are deduplicated by id (first occurrence wins; a duplicate whose
+// non-timing content differs is a conflict and warned about), in canonical order, with
+// results.csv, charts and report.json.
+MergeResult MergeSweeps(const MergeOptions& options);
 
 }  // namespace al

@@ -3,7 +3,7 @@
 // map lookups): each undirected edge becomes two arcs that are each other's reverse (both carrying
 // capacity); each node keeps at most one terminal arc: the common part of its two terminal
 // capacities is a constant of the cut and is folded into cut_value.
-#include "solvers/bk/max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -103,6 +103,75 @@ MinCutResult MinCutLabels(std::span<const double> source_cap, std::span<const do
   return result;
 }
 
+namespace {
+
+// The s-t network in Boost's CSR layout: arcs sorted by tail, each with its reverse's index.
+struct BoostNetwork {
+  std::uint32_t s = 0, t = 0;
+  std::size_t N = 0;
+  double constant = 0.0;  // the common part of each node's two terminal capacities
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> arcs;
+  std::vector<double> cap;
+  std::vector<std::uint32_t> rev;
+};
+
+BoostNetwork BuildBoostNetwork(std::span<const double> source_cap, std::span<const double> sink_cap,
+                               std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj_vertices,
+                               std::span<const double> forward_cap, std::span<const double> reverse_cap, double big) {
+  auto fin = [&](double c) { return std::isinf(c) ? big : c; };
+  const std::size_t V = source_cap.size();
+  BoostNetwork net;
+  // Net terminal capacity per node: > 0 source arc, < 0 sink arc.
+  std::vector<double> terminal(V);
+  for (std::size_t v = 0; v < V; ++v) {
+    const double a = fin(source_cap[v]), b = fin(sink_cap[v]);
+    net.constant += std::min(a, b);
+    terminal[v] = a - b;
+  }
+  net.s = static_cast<std::uint32_t>(V);
+  net.t = net.s + 1;
+  net.N = V + 2;
+  // Out-degrees, then prefix offsets (arcs sorted by source, so arc index = position).
+  std::vector<std::uint32_t> offset(net.N + 1, 0);
+  for (std::size_t u = 0; u < V; ++u) {
+    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
+      ++offset[u + 1];
+      ++offset[adj_vertices[e] + 1];
+    }
+    if (terminal[u] != 0.0) {
+      ++offset[u + 1];
+      ++offset[(terminal[u] > 0 ? net.s : net.t) + 1];
+    }
+  }
+  for (std::size_t i = 0; i < net.N; ++i) offset[i + 1] += offset[i];
+  const std::size_t A = offset[net.N];
+  std::vector<std::uint32_t> cursor(offset.begin(), offset.end() - 1);
+  net.arcs.resize(A);
+  net.cap.assign(A, 0.0);
+  net.rev.resize(A);
+  auto add_pair = [&](std::uint32_t a, std::uint32_t b, double cab, double cba) {
+    const std::uint32_t i = cursor[a]++, j = cursor[b]++;
+    net.arcs[i] = {a, b};
+    net.arcs[j] = {b, a};
+    net.cap[i] = cab;
+    net.cap[j] = cba;
+    net.rev[i] = j;
+    net.rev[j] = i;
+  };
+  for (std::size_t u = 0; u < V; ++u) {
+    const auto uu = static_cast<std::uint32_t>(u);
+    if (terminal[u] > 0) add_pair(net.s, uu, terminal[u], 0.0);
+    else if (terminal[u] < 0) add_pair(uu, net.t, -terminal[u], 0.0);
+    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
+      const double f = fin(forward_cap[e]);
+      add_pair(uu, static_cast<std::uint32_t>(adj_vertices[e]), f, reverse_cap.empty() ? f : fin(reverse_cap[e]));
+    }
+  }
+  return net;
+}
+
+}  // namespace
+
 MinCutResult MinCutLabelsBoost(std::span<const double> source_cap, std::span<const double> sink_cap,
                                std::span<const std::int64_t> first_edge,
                                std::span<const std::int32_t> adj_vertices,
@@ -111,83 +180,33 @@ MinCutResult MinCutLabelsBoost(std::span<const double> source_cap, std::span<con
   Timer timer;
   const double big =
       CheckedBigCapacity(source_cap, sink_cap, first_edge, adj_vertices, forward_cap, reverse_cap);
-  auto fin = [&](double c) { return std::isinf(c) ? big : c; };
   const std::size_t V = source_cap.size();
   MinCutResult result;
   result.source_side.assign(V, 0);
   if (V == 0) return result;
-
-  // Net terminal capacity per node: > 0 source arc, < 0 sink arc.
-  std::vector<double> net(V);
-  double constant = 0.0;
-  for (std::size_t v = 0; v < V; ++v) {
-    const double a = fin(source_cap[v]), b = fin(sink_cap[v]);
-    constant += std::min(a, b);
-    net[v] = a - b;
-  }
-  const std::uint32_t s = static_cast<std::uint32_t>(V), t = s + 1;
-  const std::size_t N = V + 2;
-
-  // Out-degrees, then prefix offsets (arcs sorted by source, so arc index = position).
-  std::vector<std::uint32_t> offset(N + 1, 0);
-  for (std::size_t u = 0; u < V; ++u) {
-    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
-      const std::int32_t v = adj_vertices[e];
-      ++offset[u + 1];
-      ++offset[v + 1];
-    }
-    if (net[u] != 0.0) {
-      ++offset[u + 1];
-      ++offset[(net[u] > 0 ? s : t) + 1];
-    }
-  }
-  for (std::size_t i = 0; i < N; ++i) offset[i + 1] += offset[i];
-  const std::size_t A = offset[N];
-  std::vector<std::uint32_t> cursor(offset.begin(), offset.end() - 1);
-  std::vector<std::pair<std::uint32_t, std::uint32_t>> arcs(A);
-  std::vector<double> cap(A, 0.0);
-  std::vector<std::uint32_t> rev(A);
-  auto add_pair = [&](std::uint32_t a, std::uint32_t b, double cab, double cba) {
-    const std::uint32_t i = cursor[a]++, j = cursor[b]++;
-    arcs[i] = {a, b};
-    arcs[j] = {b, a};
-    cap[i] = cab;
-    cap[j] = cba;
-    rev[i] = j;
-    rev[j] = i;
-  };
-  for (std::size_t u = 0; u < V; ++u) {
-    const auto uu = static_cast<std::uint32_t>(u);
-    if (net[u] > 0) add_pair(s, uu, net[u], 0.0);
-    else if (net[u] < 0) add_pair(uu, t, -net[u], 0.0);
-    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
-      const double f = fin(forward_cap[e]);
-      add_pair(uu, static_cast<std::uint32_t>(adj_vertices[e]), f,
-               reverse_cap.empty() ? f : fin(reverse_cap[e]));
-    }
-  }
-
-  Graph g(boost::edges_are_sorted, arcs.begin(), arcs.end(), N);
+  BoostNetwork net = BuildBoostNetwork(source_cap, sink_cap, first_edge, adj_vertices, forward_cap, reverse_cap, big);
+  const std::size_t A = net.arcs.size();
+  Graph g(boost::edges_are_sorted, net.arcs.begin(), net.arcs.end(), net.N);
   auto eidx = get(boost::edge_index, g);
   std::vector<EdgeDesc> rev_desc(A);
-  for (std::size_t i = 0; i < A; ++i) rev_desc[i] = EdgeDesc(arcs[rev[i]].first, rev[i]);
+  for (std::size_t i = 0; i < A; ++i) rev_desc[i] = EdgeDesc(net.arcs[net.rev[i]].first, net.rev[i]);
   std::vector<double> residual(A, 0.0);
-  std::vector<EdgeDesc> pred(N);
-  std::vector<boost::default_color_type> color(N);
-  std::vector<long> dist(N, 0);
+  std::vector<EdgeDesc> pred(net.N);
+  std::vector<boost::default_color_type> color(net.N);
+  std::vector<long> dist(net.N, 0);
   auto vidx = get(boost::vertex_index, g);
   result.build_seconds = timer.Seconds();
 
   Timer flow_timer;
   const double flow = boost::boykov_kolmogorov_max_flow(
-      g, boost::make_iterator_property_map(cap.begin(), eidx),
+      g, boost::make_iterator_property_map(net.cap.begin(), eidx),
       boost::make_iterator_property_map(residual.begin(), eidx),
       boost::make_iterator_property_map(rev_desc.begin(), eidx),
       boost::make_iterator_property_map(pred.begin(), vidx),
       boost::make_iterator_property_map(color.begin(), vidx),
-      boost::make_iterator_property_map(dist.begin(), vidx), vidx, s, t);
+      boost::make_iterator_property_map(dist.begin(), vidx), vidx, net.s, net.t);
   result.flow_seconds = flow_timer.Seconds();
-  result.cut_value = flow + constant;
+  result.cut_value = flow + net.constant;
   // Black = source tree = reachable from s in the residual graph.
   for (std::size_t v = 0; v < V; ++v)
     result.source_side[v] = color[v] == boost::black_color ? 1 : 0;

@@ -189,5 +189,158 @@ TEST(SweepLambda, RescalingEqualsRebuilding) {
   }
 }
 
+// ---- shard.json and merge's checks
+
+SweepOptions TwoPointSweep(const fs::path& dir, const Shard& shard) {
+  SweepOptions o;
+  SweepScene scene;
+  scene.name = "s";
+  scene.options = Base();
+  scene.options.scene = (dir / "scene.ply").string();  // identity of an absent file: its path
+  o.scenes = {scene};
+  o.grid = ParseSweepGrid("k=4,6;lambda=1,2", Base());
+  o.shard = shard;
+  return o;
+}
+
+// A shard folder as RunSweep leaves it, with fake records for the ids of `jobs` of its slice.
+void WriteShardFolder(const fs::path& dir, const ShardInfo& info, const std::vector<std::size_t>& jobs) {
+  fs::create_directories(dir);
+  WriteShardInfo(dir.string(), info);
+  const std::vector<std::string> ids = SweepPointIds(info, 0, info.points_total);
+  std::ofstream out(dir / "results.jsonl");
+  for (std::size_t j : jobs) out << nlohmann::json{{"id", ids[j]}, {"scene", "s"}, {"status", "ok"}}.dump() << "\n";
+}
+
+TEST(SweepShardInfo, GridRoundTripsAndIdsFollowTheSlices) {
+  const fs::path dir = test::TempDir();
+  const SweepOptions o = TwoPointSweep(dir, {1, 3});
+  const ShardInfo info = MakeShardInfo(o);
+  EXPECT_EQ(info.points_total, 4u);
+  EXPECT_EQ(std::make_pair(info.first, info.end), ShardRange(4, {1, 3}));
+  EXPECT_EQ(GridFromJson(info.grid).size(), o.grid.size());
+  const auto points = EnumeratePoints(o.grid);
+  const std::vector<std::string> ids = SweepPointIds(info, 0, 4);
+  ASSERT_EQ(ids.size(), 4u);
+  for (std::size_t j = 0; j < 4; ++j) EXPECT_EQ(ids[j], PointId("s", points[j]));
+  WriteShardInfo(dir.string(), info);
+  const ShardInfo back = ReadShardInfo(dir.string());
+  EXPECT_EQ(back.ToJson(), info.ToJson());
+  EXPECT_EQ(info.binary["sha256"].get<std::string>().size(), 64u);  // this test binary's hash
+}
+
+TEST(SweepShardInfo, DifferencesNameWhatDiffers) {
+  const fs::path dir = test::TempDir();
+  const ShardInfo a = MakeShardInfo(TwoPointSweep(dir, {0, 2}));
+  EXPECT_TRUE(SweepDifferences(a, MakeShardInfo(TwoPointSweep(dir, {1, 2}))).empty());  // another slice, one sweep
+  auto differs = [&](SweepOptions o, const std::string& expected) {
+    const std::vector<std::string> d = SweepDifferences(a, MakeShardInfo(o));
+    ASSERT_EQ(d.size(), 1u) << expected;
+    EXPECT_EQ(d[0], expected);
+  };
+  SweepOptions o = TwoPointSweep(dir, {0, 3});
+  differs(o, "shard count (2 vs 3)");
+  o = TwoPointSweep(dir, {0, 2});
+  o.grid = ParseSweepGrid("k=4,8;lambda=1,2", Base());
+  differs(o, "grid (k: [4,6] vs [4,8])");
+  o = TwoPointSweep(dir, {0, 2});
+  o.scenes[0].options.graph.spatial = false;
+  differs(o, "scenes ([0].flags.spatial: true vs false)");
+  o = TwoPointSweep(dir, {0, 2});
+  o.scenes[0].name = "t";
+  differs(o, "scenes ([0].name: \"s\" vs \"t\")");
+  o = TwoPointSweep(dir, {0, 2});
+  o.eval_views = "v1";
+  differs(o, "fixed flags (eval_views: \"all\" vs \"v1\")");
+  ShardInfo other_binary = a;
+  other_binary.binary["version"] = "9.9.9";
+  EXPECT_EQ(SweepDifferences(a, other_binary), std::vector<std::string>{"binary (version: \"0.1.0\" vs \"9.9.9\")"});
+  // A scene file that changed between shards is another sweep even under the same path.
+  Write(dir / "scene.ply", "one");
+  const ShardInfo before = MakeShardInfo(TwoPointSweep(dir, {0, 2}));
+  Write(dir / "scene.ply", "two");
+  const std::vector<std::string> d = SweepDifferences(before, MakeShardInfo(TwoPointSweep(dir, {1, 2})));
+  ASSERT_EQ(d.size(), 1u);
+  EXPECT_EQ(d[0].rfind("scenes ([0].inputs.scene.sha256: ", 0), 0u) << d[0];
+}
+
+TEST(SweepShardInfo, RejectsMissingOrInconsistentFiles) {
+  const fs::path dir = test::TempDir();
+  try {
+    ReadShardInfo(dir.string());
+    ADD_FAILURE() << "no shard.json accepted";
+  } catch (const Error& e) {
+    EXPECT_NE(std::string(e.what()).find("no shard.json"), std::string::npos);
+    EXPECT_EQ(e.code(), ExitCode::kBadInput);
+  }
+  nlohmann::json good = MakeShardInfo(TwoPointSweep(dir, {1, 2})).ToJson();
+  for (const auto& [key, value] : std::vector<std::pair<std::string, nlohmann::json>>{
+           {"format", "x"}, {"points_total", 5}, {"shard_index", 2}, {"first_point", 0},
+           {"points_in_shard", 3}, {"scenes", nlohmann::json::array()}, {"grid", {{"k", "four"}}}}) {
+    nlohmann::json bad = good;
+    bad[key] = value;
+    Write(dir / "shard.json", bad.dump());
+    EXPECT_THROW(ReadShardInfo(dir.string()), Error) << key;
+  }
+  Write(dir / "shard.json", "{not json");
+  EXPECT_THROW(ReadShardInfo(dir.string()), Error);
+}
+
+TEST(SweepMerge, CountsMissingShardsAndPointsAndRefusesAnIncompleteSet) {
+  const fs::path dir = test::TempDir();
+  const ShardInfo s0 = MakeShardInfo(TwoPointSweep(dir, {0, 3}));  // jobs [0, 1)
+  const ShardInfo s1 = MakeShardInfo(TwoPointSweep(dir, {1, 3}));  // [1, 2)
+  const ShardInfo s2 = MakeShardInfo(TwoPointSweep(dir, {2, 3}));  // [2, 4)
+  WriteShardFolder(dir / "a", s0, {0});
+  WriteShardFolder(dir / "c", s2, {2});  // job 3 missing: killed
+  MergeOptions o;
+  o.shard_dirs = {(dir / "a").string(), (dir / "c").string()};
+  o.out_dir = (dir / "out").string();
+  MergeResult r = MergeSweeps(o);
+  EXPECT_FALSE(r.complete);
+  EXPECT_FALSE(r.written);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(r.missing_shards, std::vector<std::size_t>{1});
+  EXPECT_EQ(r.incomplete_shards, (std::vector<std::size_t>{1, 2}));
+  EXPECT_EQ(r.points_found, 2u);
+  EXPECT_EQ(r.points_total, 4u);
+  EXPECT_NE(r.BriefReport().find("incomplete shards: 1 2\n"), std::string::npos) << r.BriefReport();
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  o.allow_partial = true;
+  r = MergeSweeps(o);
+  EXPECT_TRUE(r.written);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.report["complete"], false);
+  EXPECT_EQ(r.report["counts"]["points_missing"], 2);
+  // Completed, with one foreign record (not a point of the sweep) that is left out, and shard 1
+  // given twice (duplicates, no conflict).
+  WriteShardFolder(dir / "b", s1, {1});
+  WriteShardFolder(dir / "c", s2, {2, 3});
+  std::ofstream(dir / "c" / "results.jsonl", std::ios::app) << R"({"id": "s|k=99", "scene": "s"})" << "\n";
+  o = {};
+  o.shard_dirs = {(dir / "c").string(), (dir / "b").string(), (dir / "a").string(), (dir / "b").string()};
+  o.check_only = true;
+  r = MergeSweeps(o);
+  EXPECT_TRUE(r.complete);
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_EQ(r.records, 4u);
+  EXPECT_EQ(r.duplicates, 1u);
+  EXPECT_EQ(r.conflicts, 0u);
+  EXPECT_EQ(r.foreign_records, 1u);
+  EXPECT_FALSE(r.written);
+  // A shard of another sweep is refused before anything is counted.
+  SweepOptions other = TwoPointSweep(dir, {1, 3});
+  other.grid = ParseSweepGrid("k=4,6;lambda=1,3", Base());
+  WriteShardFolder(dir / "x", MakeShardInfo(other), {1});
+  o.shard_dirs = {(dir / "a").string(), (dir / "x").string()};
+  try {
+    MergeSweeps(o);
+    ADD_FAILURE() << "a shard of another grid was merged";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("grid (lambda: [1.0,2.0] vs [1.0,3.0])"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace al

@@ -25,7 +25,7 @@
 // it is what defines the returned cut.
 #include <algorithm>
 
-#include "max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al {
 

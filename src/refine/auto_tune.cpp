@@ -10,7 +10,7 @@
 #include "al/core/error.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
-#include "al/fixtures/synth.hpp"
+#include "al/metrics/removal_scores.hpp"
 
 namespace al {
 namespace {
@@ -111,7 +111,7 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
           if (s.refined[i] != removed[i]) diff.push_back(static_cast<std::int64_t>(i));
         changed.push_back(std::move(diff));
         if (inputs.ground_truth)
-          c.gt_f1 = fixtures::ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
+          c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
                                            inputs.ground_truth->opacity_logits).f1;
         if (o.eval) {
           c.eval = EvaluatePoint(inputs.scene, *o.eval, s.refined);

@@ -48,7 +48,8 @@ class MaxFlow {
   };
   // Option names "hybrid", "pseudoflow", "bk" (solver JSON options "max_flow"); nullopt if unknown.
   static const char* AlgorithmName(Algorithm algorithm);
-  static std::optional<Algorithm> AlgorithmFromName(const std::string& name);
+  // Every algorithm with its option name (the "max_flow" key of cp and exact), default first.
+  static std::vector<std::pair<std::string, Algorithm>> AlgorithmNames();
   // Work counters of the last Solve() (diagnostics; never influence the result).
   struct Stats {
     std::int64_t augmentations = 0;        // BK augmenting paths
@@ -118,6 +119,8 @@ class MaxFlow {
   double CutValue() const;
   void GreedyPreflow();
   bool BoykovKolmogorov(std::int64_t max_work);
+  void ResetTrees();
+  std::int32_t GrowFrom(std::int32_t i);
   void Pseudoflow();
   void TreeLink(std::int32_t child, std::int32_t parent, std::int32_t arc);
   void TreeUnlink(std::int32_t child);

@@ -8,7 +8,7 @@
 // Conventions: node.parent is the arc v -> parent. In the source tree flow runs parent -> v, so the
 // arc that must stay non-saturated is the parent arc's sister; in the sink tree the parent arc itself.
 // Node terminal residuals (tr) may already hold a pseudoflow's excesses when this phase starts.
-#include "max_flow.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 #include <algorithm>
 #include <limits>
@@ -236,10 +236,11 @@ const char* MaxFlow::AlgorithmName(Algorithm algorithm) {
   return "?";
 }
 
-std::optional<MaxFlow::Algorithm> MaxFlow::AlgorithmFromName(const std::string& name) {
+std::vector<std::pair<std::string, MaxFlow::Algorithm>> MaxFlow::AlgorithmNames() {
+  std::vector<std::pair<std::string, Algorithm>> names;
   for (Algorithm a : {Algorithm::kHybrid, Algorithm::kPseudoflowThenBk, Algorithm::kBoykovKolmogorov})
-    if (name == AlgorithmName(a)) return a;
-  return std::nullopt;
+    names.emplace_back(AlgorithmName(a), a);
+  return names;
 }
 
 double MaxFlow::Solve() {
@@ -285,9 +286,10 @@ void MaxFlow::GreedyPreflow() {
   }
 }
 
-bool MaxFlow::BoykovKolmogorov(std::int64_t max_work) {
-  const std::int32_t n = n_;
-  for (std::int32_t v = 0; v < n; ++v) {
+// Both search trees from scratch: every node with excess (source tree) or deficit (sink tree) is
+// a root at distance 1.
+void MaxFlow::ResetTrees() {
+  for (std::int32_t v = 0; v < n_; ++v) {
     Node& x = nodes_[v];
     x.parent = kFree;
     x.sink = 0;
@@ -299,72 +301,60 @@ bool MaxFlow::BoykovKolmogorov(std::int64_t max_work) {
   orphans_.clear();
   orphan_head_ = 0;
   time_ = 0;
-  for (std::int32_t v = 0; v < n; ++v) {
+  for (std::int32_t v = 0; v < n_; ++v) {
     if (nodes_[v].tr == 0.0) continue;
     nodes_[v].parent = kTerminal;
     nodes_[v].sink = nodes_[v].tr < 0.0 ? 1 : 0;
     nodes_[v].dist = 1;
     Activate(v);
   }
+}
+
+// Growth from active node i: claims free neighbours for i's tree and shortens their paths where i
+// offers a shorter one; returns the arc (oriented source tree -> sink tree) where the trees meet,
+// or -1 when i is exhausted.
+std::int32_t MaxFlow::GrowFrom(std::int32_t i) {
+  const bool sink = nodes_[i].sink;
+  for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
+    ++work_;
+    // The residual direction the tree grows along: away from the source, or toward the sink.
+    if (!((sink ? arcs_[arcs_[a].sister].rcap : arcs_[a].rcap) > 0.0)) continue;
+    const std::int32_t j = arcs_[a].head;
+    if (nodes_[j].parent == kFree) {
+      nodes_[j].sink = sink ? 1 : 0;
+      nodes_[j].parent = arcs_[a].sister;
+      nodes_[j].ts = nodes_[i].ts;
+      nodes_[j].dist = nodes_[i].dist + 1;
+      Activate(j);
+    } else if (static_cast<bool>(nodes_[j].sink) != sink) {
+      return sink ? arcs_[a].sister : a;
+    } else if (nodes_[j].ts <= nodes_[i].ts && nodes_[j].dist > nodes_[i].dist) {
+      nodes_[j].parent = arcs_[a].sister;  // shorter path to the root through i
+      nodes_[j].ts = nodes_[i].ts;
+      nodes_[j].dist = nodes_[i].dist + 1;
+    }
+  }
+  return -1;
+}
+
+bool MaxFlow::BoykovKolmogorov(std::int64_t max_work) {
+  ResetTrees();
   std::int32_t current = kQueueEnd;
   while (true) {
     if (current == kQueueEnd || nodes_[current].parent == kFree) {
       current = NextActive();
       if (current == kQueueEnd) break;
     }
-    const std::int32_t i = current;
-    std::int32_t middle = -1;
-    // Growth: claim free neighbours; a neighbour of the other tree closes a path.
-    if (!nodes_[i].sink) {
-      for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
-        ++work_;
-        if (!(arcs_[a].rcap > 0.0)) continue;
-        const std::int32_t j = arcs_[a].head;
-        if (nodes_[j].parent == kFree) {
-          nodes_[j].sink = 0;
-          nodes_[j].parent = arcs_[a].sister;
-          nodes_[j].ts = nodes_[i].ts;
-          nodes_[j].dist = nodes_[i].dist + 1;
-          Activate(j);
-        } else if (nodes_[j].sink) {
-          middle = a;
-          break;
-        } else if (nodes_[j].ts <= nodes_[i].ts && nodes_[j].dist > nodes_[i].dist) {
-          nodes_[j].parent = arcs_[a].sister;  // shorter path to the source through i
-          nodes_[j].ts = nodes_[i].ts;
-          nodes_[j].dist = nodes_[i].dist + 1;
-        }
-      }
-    } else {
-      for (std::int32_t a = nodes_[i].first; a < nodes_[i + 1].first; ++a) {
-        ++work_;
-        if (!(arcs_[arcs_[a].sister].rcap > 0.0)) continue;
-        const std::int32_t j = arcs_[a].head;
-        if (nodes_[j].parent == kFree) {
-          nodes_[j].sink = 1;
-          nodes_[j].parent = arcs_[a].sister;
-          nodes_[j].ts = nodes_[i].ts;
-          nodes_[j].dist = nodes_[i].dist + 1;
-          Activate(j);
-        } else if (!nodes_[j].sink) {
-          middle = arcs_[a].sister;
-          break;
-        } else if (nodes_[j].ts <= nodes_[i].ts && nodes_[j].dist > nodes_[i].dist) {
-          nodes_[j].parent = arcs_[a].sister;
-          nodes_[j].ts = nodes_[i].ts;
-          nodes_[j].dist = nodes_[i].dist + 1;
-        }
-      }
-    }
+    const std::int32_t middle = GrowFrom(current);
     if (middle < 0) {
-      current = kQueueEnd;  // i is exhausted until something re-activates it
+      current = kQueueEnd;  // exhausted until something re-activates it
       continue;
     }
     ++time_;
     Augment(middle);
     Adopt();
     if (max_work >= 0 && work_ > max_work) return false;
-    // i stays current: it may touch the other tree again through another arc.
+    // current stays: it may touch the other tree again through another arc.
   }
   return true;
 }

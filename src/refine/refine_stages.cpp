@@ -9,7 +9,7 @@
 #include "al/core/error.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
-#include "al/fixtures/synth.hpp"
+#include "al/metrics/removal_scores.hpp"
 #include "al/io/npy.hpp"
 #include "al/io/ply.hpp"
 #include "al/refine/fgs_mask.hpp"
@@ -115,7 +115,7 @@ GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann
   return truth;
 }
 
-nlohmann::json ScoresToJson(const fixtures::RemovalScores& s) {
+nlohmann::json ScoresToJson(const RemovalScores& s) {
   return {{"precision", s.precision}, {"recall", s.recall}, {"f1", s.f1}, {"iou", s.iou},
           {"precision_w", s.precision_w}, {"recall_w", s.recall_w}, {"f1_w", s.f1_w},
           {"iou_w", s.iou_w}, {"removed", s.removed}, {"target", s.target}};
@@ -252,9 +252,9 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
 nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
                                        const std::vector<bool>& after) {
   return {{"object_id", truth.target},
-          {"before", ScoresToJson(fixtures::ScoreRemoval(before, truth.labels, truth.target,
+          {"before", ScoresToJson(ScoreRemoval(before, truth.labels, truth.target,
                                                          truth.opacity_logits))},
-          {"after", ScoresToJson(fixtures::ScoreRemoval(after, truth.labels, truth.target,
+          {"after", ScoresToJson(ScoreRemoval(after, truth.labels, truth.target,
                                                         truth.opacity_logits))}};
 }
 

@@ -39,8 +39,8 @@ TEST(RefineAccuracy, SyntheticScenesFixedSeeds) {
       ++runs;
       const auto sol = al::MakeSolver("bk")->Solve(graph.problem);
       const auto d = al::ApplyDecision(removed, graph.problem, sol.p);
-      const double before = al::fixtures::ScoreRemoval(removed, s.labels, s.target_id, opacity).f1;
-      const double after = al::fixtures::ScoreRemoval(d.refined, s.labels, s.target_id, opacity).f1;
+      const double before = al::ScoreRemoval(removed, s.labels, s.target_id, opacity).f1;
+      const double after = al::ScoreRemoval(d.refined, s.labels, s.target_id, opacity).f1;
       EXPECT_GE(after, before - 0.01) << method << " " << preset << " seed " << seed;
       if (method == "fgs") {
         ++fgs_runs;
@@ -70,8 +70,8 @@ TEST(RefineAccuracy, SagsNeverLowersF1) {
     ASSERT_GT(graph.problem.num_edges(), 0u) << preset;
     const auto sol = al::MakeSolver("bk")->Solve(graph.problem);
     const auto d = al::ApplyDecision(removed, graph.problem, sol.p);
-    const double before = al::fixtures::ScoreRemoval(removed, s.labels, s.target_id).f1;
-    const double after = al::fixtures::ScoreRemoval(d.refined, s.labels, s.target_id).f1;
+    const double before = al::ScoreRemoval(removed, s.labels, s.target_id).f1;
+    const double after = al::ScoreRemoval(d.refined, s.labels, s.target_id).f1;
     EXPECT_GE(after, before - 0.01) << preset;
   }
 }
@@ -96,7 +96,7 @@ TEST(RefineAccuracy, SegmentRuleLeavesASplitLookAlikeAlone) {
   plain.min_segment_share = 0.0;
   const auto d_plain = al::ApplyDecision(removed, graph.problem, sol.p, plain);
   const auto d_rule = al::ApplyDecision(removed, graph.problem, sol.p);
-  auto f1 = [&](const std::vector<bool>& m) { return al::fixtures::ScoreRemoval(m, s.labels, s.target_id).f1; };
+  auto f1 = [&](const std::vector<bool>& m) { return al::ScoreRemoval(m, s.labels, s.target_id).f1; };
   const double before = f1(removed);
   EXPECT_LT(f1(d_plain.refined), before - 0.02);
   EXPECT_GE(f1(d_rule.refined), before - 0.01);

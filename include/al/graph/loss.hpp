@@ -3,7 +3,7 @@
 #pragma once
 #include <cmath>
 
-namespace al::cp {
+namespace al {
 
 struct Loss {
   double s = 0.1;  // smoothing in [0, 1]
@@ -43,4 +43,4 @@ struct Loss {
   }
 };
 
-}  // namespace al::cp
+}  // namespace al

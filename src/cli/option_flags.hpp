@@ -1,0 +1,52 @@
+// CLI flags generated from an options table (al/core/option_table.hpp): one flag per field, named
+// --field-name, its help with the range and the default, parsed by the table so that the CLI, the
+// sweep grid and the solver-options JSON accept exactly the same spellings. Ranges are checked by
+// the library's Check() when the command runs, so every entry point reports the same message.
+#pragma once
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "al/core/option_table.hpp"
+
+namespace al::cli {
+
+// The default as the help shows it ("0.8", "on", "distance").
+template <class O>
+std::string DefaultText(const OptionField<O>& field, const O& defaults) {
+  const nlohmann::json v = field.get(defaults);
+  if (v.is_boolean()) return v.get<bool>() ? "on" : "off";
+  if (v.is_number()) return FormatOptionNumber(v.get<double>());
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
+
+// Adds every field of `table` (except those named in `skip`) to `app`, bound to `options`, whose
+// values at this call are the defaults shown. `options` must outlive parsing.
+template <class O>
+void AddOptionFlags(CLI::App& app, const OptionTable<O>& table, O& options, const std::string& group,
+                    const std::vector<std::string>& skip = {}) {
+  for (const auto& field : table.fields()) {
+    if (std::find(skip.begin(), skip.end(), field.name) != skip.end()) continue;
+    const std::string name = field.name, flag = field.Flag();
+    auto store = [&table, &options, name, flag](const nlohmann::json& value, bool text) {
+      try {
+        text ? table.SetText(options, name, value.get<std::string>()) : table.Set(options, name, value);
+      } catch (const Error& e) {
+        throw CLI::ValidationError(flag, e.what());
+      }
+    };
+    std::string help = field.help;
+    if (field.presence) {
+      app.add_flag_callback(flag, [store] { store(true, false); }, help)->group(group);
+      continue;
+    }
+    if (!field.range.empty()) help += " [" + field.range + "]";
+    app.add_option_function<std::string>(flag, [store](const std::string& s) { store(s, true); }, help)
+        ->default_str(DefaultText(field, options))
+        ->group(group);
+  }
+}
+
+}  // namespace al::cli

@@ -1,0 +1,35 @@
+// The graph's options table (al/core/option_table.hpp): one row per user-settable field.
+#include "al/core/error.hpp"
+#include "al/graph/graph.hpp"
+
+namespace al {
+
+const OptionTable<GraphOptions>& GraphOptions::Table() {
+  using O = GraphOptions;
+  using R = NumericRange;
+  static const auto table =
+      OptionTable<O>("graph")
+          .Int("k", &O::k, R::Closed(1, 1000), "neighbours per node")
+          .Real("delta", &O::delta, R::AtLeast(-1),
+                "semantic gate: a distance >= 0 of unit features, or in cosine mode a cosine in [-1, 1]")
+          .Choice("delta_mode", &O::delta_mode, {{"distance", DeltaMode::kDistance}, {"cosine", DeltaMode::kCosine}},
+                  "distance: delta bounds |f_u - f_v|; cosine: delta is a cosine threshold")
+          .Real("lambda", &O::lambda, R::AtLeast(0), "edge weight scale")
+          .Flag("spatial", &O::spatial, "spatial weight factor exp(-d_x^2 / sigma_x^2)")
+          .Int("hops", &O::hops, R::Closed(0, 100), "candidate growth repetitions")
+          .Real("radius_scale", &O::radius_scale, R::Above(0), "multiplier of r_i = max exp(scale)")
+          .Int("knn_checks", &O::knn_checks, R::AtLeast(0), "0 = exact kNN; > 0 approximate (FLANN checks)")
+          .Real("kl_smoothing", &O::kl_smoothing, R::Open(0, 1), "s of the smoothed KL");
+  return table;
+}
+
+void GraphOptions::Check() const {
+  Table().Check(*this);
+  const bool cosine = delta_mode == DeltaMode::kCosine;
+  if (cosine ? delta > 1.0 : delta < 0.0)
+    throw Error("graph option 'delta' = " + FormatOptionNumber(delta) + " must be " +
+                    (cosine ? "in [-1, 1] in cosine mode" : ">= 0 in distance mode"),
+                ExitCode::kUsage);
+}
+
+}  // namespace al

@@ -1,0 +1,345 @@
+// RunSweep (al/refine/sweep.hpp): the shard's points, each appended to results.jsonl as soon as it
+// is done; inputs loaded once per scene, one graph per (k, δ, hops, radius_scale), λ applied by
+// rescaling the λ = 1 weights.
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <set>
+
+#include "al/core/atomic_file.hpp"
+#include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
+#include "al/core/report.hpp"
+#include "al/core/timer.hpp"
+#include "al/refine/stages.hpp"
+#include "al/refine/sweep.hpp"
+#include "al/solver.hpp"
+
+namespace al {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Graph statistics of a record: GraphStatsToJson without its timings (those go to "seconds").
+nlohmann::json GraphRecord(const GraphStats& stats) {
+  nlohmann::json g = GraphStatsToJson(stats);
+  g.erase("seconds");
+  return g;
+}
+
+// Solver statistics of a record: without timings (moved to `timings`, so that everything outside
+// "seconds" is reproducible) and per-iteration histories (one line per point should stay short).
+nlohmann::json SolverRecord(const nlohmann::json& solver, nlohmann::json& timings) {
+  nlohmann::json s = solver;
+  s.erase("seconds");
+  if (s.contains("stats") && s["stats"].is_object())
+    for (auto it = s["stats"].begin(); it != s["stats"].end();) {
+      const std::string key = it.key();
+      if (key.ends_with("_seconds")) timings[key] = it.value();
+      it = key.ends_with("_history") || key.ends_with("_seconds") ? s["stats"].erase(it) : std::next(it);
+    }
+  return s;
+}
+
+// Solver options for one solver: the object's entry under the solver's name (options differ by
+// solver, and unknown keys are an error).
+nlohmann::json OptionsFor(const nlohmann::json& all, const std::string& solver) {
+  if (all.is_object() && all.contains(solver)) return all[solver];
+  return nlohmann::json::object();
+}
+
+void CheckInputsExist(const SweepScene& s) {
+  auto need = [&](const std::string& path, const char* what) {
+    if (!path.empty() && !fs::exists(path))
+      throw Error("scene '" + s.name + "': " + what + " " + path + " does not exist", ExitCode::kBadInput);
+  };
+  need(s.options.scene, "scene");
+  need(s.options.removed, "removed set");
+  need(s.options.labels, "labels");
+  need(s.cameras, "cameras");
+  need(s.object_masks, "object masks");
+}
+
+// Usage errors of the options, and one solver per grid solver (validates names and options).
+std::map<std::string, std::unique_ptr<Solver>> CheckOptionsAndMakeSolvers(const SweepOptions& o) {
+  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  if (o.scenes.empty()) throw Error("sweep: no scene (give --scene/--removed or --manifest)", ExitCode::kUsage);
+  if (o.grid.size() == 0) throw Error("--grid: empty grid", ExitCode::kUsage);
+  if (!o.solver_options.is_object()) throw Error("--solver-options: expected a JSON object {solver: {...}}", ExitCode::kUsage);
+  for (const auto& [name, value] : o.solver_options.items()) {
+    if (std::find(o.grid.solver.begin(), o.grid.solver.end(), name) == o.grid.solver.end())
+      throw Error("--solver-options: '" + name + "' is not a solver of the grid", ExitCode::kUsage);
+  }
+  std::map<std::string, std::unique_ptr<Solver>> solvers;
+  for (const auto& name : o.grid.solver) solvers[name] = MakeSolver(name, OptionsFor(o.solver_options, name));
+  return solvers;
+}
+
+// results.jsonl is the sweep's journal: appended in place point by point (a kill loses at most the
+// point in flight), so it lives in --out with shard.json, its identity; the rest of the set
+// (results.csv, charts, report.json) is staged and committed (al/core/output_set.hpp).
+OutputSetOptions SweepOutputSetOptions(const SweepOptions& o) {
+  OutputSetOptions so("sweep");
+  for (const auto& s : o.scenes)
+    for (const auto& p : {s.options.scene, s.options.removed, s.options.labels, s.options.features, s.cameras,
+                          s.object_masks})
+      so.inputs.push_back(p);
+  so.planned = {"results.csv", "report.json"};
+  so.journals = {"results.jsonl", "shard.json"};
+  return so;
+}
+
+nlohmann::json SweepParams(const SweepOptions& o) {
+  nlohmann::json scenes = nlohmann::json::array();
+  for (const auto& s : o.scenes)
+    scenes.push_back({{"name", s.name}, {"scene", s.options.scene}, {"removed", s.options.removed},
+                      {"method", s.options.method}, {"labels", s.options.labels}, {"cameras", s.cameras},
+                      {"object_masks", s.object_masks}});
+  return {{"grid", GridToJson(o.grid)}, {"shard", o.shard.ToString()}, {"scenes", scenes},
+          {"solver_options", o.solver_options}, {"eval_views", o.eval_views}, {"out", o.out_dir},
+          {"lambda_rescaled", true}};
+}
+
+// A folder being resumed must belong to this sweep and shard (its shard.json): mixing two sweeps' points (or two binaries' results) in one folder would be merged as one.
+// An unsharded run may grow its grid (the documented way to add points).
+void CheckOutDir(const std::string& dir, const ShardInfo& info) {
+  if (fs::exists(fs::path(dir) / "shard.json")) {
+    const ShardInfo old = ReadShardInfo(dir);
+    std::vector<std::string> diff = SweepDifferences(old, info);
+    if (old.shard.index != info.shard.index && old.shard.count == info.shard.count)
+      diff.insert(diff.begin(), "shard (" + old.shard.ToString() + " vs " + info.shard.ToString() + ")");
+    const bool grid_grew = old.shard.count == 1 && info.shard.count == 1 &&
+                           std::all_of(diff.begin(), diff.end(), [](const std::string& d) { return d.starts_with("grid"); });
+    if (!diff.empty() && !grid_grew) {
+      std::string what;
+      for (const auto& d : diff) what += (what.empty() ? "" : "; ") + d;
+      throw Error("--out " + dir + " already holds another shard or sweep (there vs here: " + what +
+                      "); use a fresh --out, or the same flags, shard and binary to resume it",
+                  ExitCode::kBadInput);
+    }
+  }
+}
+
+// results.jsonl opened for appending after a killed run's half line is dropped; the ids it holds.
+struct ResultsFile {
+  std::ofstream out;
+  std::set<std::string> done;
+};
+
+ResultsFile OpenResults(const fs::path& jsonl, nlohmann::json& warnings) {
+  const JsonlContents existing = ReadResultsJsonl(jsonl.string());
+  if (existing.truncated_tail) {
+    // Drop the half line of a killed run so the next append starts on a fresh line.
+    fs::resize_file(jsonl, existing.good_bytes);
+    warnings.push_back("results.jsonl ended in a truncated line (a killed run); it was dropped and that point re-run");
+  }
+  bool needs_newline = false;  // a complete last record without its newline (kept): end it first
+  if (!existing.truncated_tail && existing.good_bytes > 0) {
+    std::ifstream last(jsonl, std::ios::binary);
+    last.seekg(static_cast<std::streamoff>(existing.good_bytes) - 1);
+    needs_newline = last.get() != '\n';
+  }
+  ResultsFile f;
+  for (const auto& r : existing.records) f.done.insert(r["id"].get<std::string>());
+  f.out.open(jsonl, std::ios::app | std::ios::binary);
+  if (!f.out) throw FileError(jsonl.string(), "cannot open for appending");
+  if (needs_newline) f.out << '\n' << std::flush;
+  return f;
+}
+
+// Inputs of the current scene and the current graph, rebuilt only when the scene or a graph axis
+// changes; λ is applied by rescaling the λ = 1 weights.
+class PointRunner {
+ public:
+  PointRunner(const SweepOptions& o, nlohmann::json& report, fs::path scratch)
+      : o_(o), report_(report), scratch_(std::move(scratch)) {}
+  std::size_t graphs_built() const { return graphs_built_; }
+  const nlohmann::json& load_seconds() const { return load_seconds_; }
+
+  // The record of job j (scene j / P, point p), with its timings and run details.
+  nlohmann::json Run(std::size_t scene, const SweepPoint& p, const std::string& id, Solver& solver) {
+    Timer point_timer;
+    if (scene_ != scene) LoadScene(scene);
+    const SweepScene& sc = o_.scenes[scene];
+    GraphOptions go = sc.options.graph;
+    go.k = p.k;
+    go.delta = p.delta;
+    go.hops = p.hops;
+    go.radius_scale = p.radius_scale;
+    const bool reused = PrepareGraph(p, go);
+    go.lambda = p.lambda;
+    DecisionOptions decision = sc.options.decision;
+    decision.rule = ParseDecisionRule(p.threshold);
+    decision.min_segment_share = p.segment_share;
+    Timer solve_timer;
+    const SolveOutcome solved = SolveAndDecide(*inputs_, *graph_, go, solver, decision);
+    const double solve_and_decide = solve_timer.Seconds();
+    const double solve_seconds = solved.solver.value("seconds", solve_and_decide);
+    nlohmann::json solver_timings = nlohmann::json::object();
+    nlohmann::json record = Record(id, sc, p, go, decision, solved, solver_timings);
+    Timer score_timer;
+    if (inputs_->ground_truth)
+      record["gt"] = ScoreAgainstGroundTruth(*inputs_->ground_truth, inputs_->removal.removed, solved.refined);
+    const double score_seconds = score_timer.Seconds();
+    Timer eval_timer;
+    if (eval_setup_) record["eval"] = EvaluatePoint(inputs_->scene, *eval_setup_, solved.refined);
+    // graph: the build time of the graph this point used (also when reused), so graph + solve is
+    // what the setting costs on its own; point: wall time this run spent on the point.
+    record["seconds"] = {{"graph", graph_seconds_},
+                         {"solve", solve_seconds},
+                         {"decide", std::max(0.0, solve_and_decide - solve_seconds)},
+                         {"score", score_seconds},
+                         {"eval", eval_timer.Seconds()},
+                         {"solver_stages", solver_timings},
+                         {"point", point_timer.Seconds()}};
+    record["run"] = {{"graph_reused", reused}, {"shard", o_.shard.ToString()}};
+    return record;
+  }
+
+ private:
+  void LoadScene(std::size_t scene) {
+    Timer timer;
+    const SweepScene& sc = o_.scenes[scene];
+    graph_.reset();
+    inputs_.reset();
+    nlohmann::json scene_report = NewReport("refine");
+    inputs_ = LoadRefineInputs(sc.options, scene_report);
+    scene_ = scene;
+    report_["inputs"][sc.name] = scene_report["inputs"];
+    for (const auto& w : scene_report["warnings"]) report_["warnings"].push_back(sc.name + ": " + w.get<std::string>());
+    eval_setup_.reset();
+    if (!sc.cameras.empty())
+      eval_setup_ = MakePointEvalSetup(sc.cameras, o_.eval_views, sc.object_masks, *inputs_, scratch_.string());
+    load_seconds_[sc.name] = timer.Seconds();
+  }
+
+  // Builds the graph of p unless the current one is p's (returns true: reused), then applies λ.
+  bool PrepareGraph(const SweepPoint& p, GraphOptions go) {
+    bool reused = true;
+    if (!graph_ || !SameGraph(*graph_point_, p)) {
+      graph_.reset();
+      go.lambda = 1.0;
+      graph_ = BuildGraphFor(*inputs_, go);
+      graph_point_ = p;
+      unit_weights_ = graph_->problem.edge_weights;
+      applied_lambda_ = 1.0;
+      graph_seconds_ = graph_->stats.seconds_total;
+      ++graphs_built_;
+      reused = false;
+    }
+    if (applied_lambda_ != p.lambda) {
+      // λ multiplies every weight (SPEC §4.6): rescaling equals a rebuild up to the rounding of one
+      // product (bit-identical for powers of two).
+      auto& w = graph_->problem.edge_weights;
+      for (std::size_t e = 0; e < w.size(); ++e) w[e] = p.lambda == 1.0 ? unit_weights_[e] : unit_weights_[e] * p.lambda;
+      applied_lambda_ = p.lambda;
+    }
+    return reused;
+  }
+
+  nlohmann::json Record(const std::string& id, const SweepScene& sc, const SweepPoint& p, const GraphOptions& go,
+                        const DecisionOptions& decision, const SolveOutcome& solved, nlohmann::json& solver_timings) {
+    std::size_t refined = 0;
+    for (bool b : solved.refined) refined += b;
+    return {
+        {"id", id},
+        {"scene", sc.name},
+        {"params",
+         {{"k", p.k}, {"delta", p.delta}, {"hops", p.hops}, {"radius_scale", p.radius_scale},
+          {"lambda", p.lambda}, {"solver", p.solver}, {"threshold", p.threshold},
+          {"segment_share", p.segment_share},
+          {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
+          {"spatial", go.spatial}, {"knn_checks", go.knn_checks}, {"kl_smoothing", go.kl_smoothing},
+          {"restore", decision.restore}, {"method", sc.options.method}}},
+        {"status", solved.empty_graph ? "empty_graph" : "ok"},
+        {"graph", GraphRecord(graph_->stats)},
+        {"solver", SolverRecord(solved.solver, solver_timings)},
+        {"decision", solved.decision},
+        {"counts",
+         {{"removed_input", inputs_->removal.num_removed}, {"added", solved.added},
+          {"restored", solved.restored}, {"refined", refined}}},
+    };
+  }
+
+  const SweepOptions& o_;
+  nlohmann::json& report_;
+  fs::path scratch_;  // RunEval's folder per evaluated point, inside the staging folder
+  std::optional<RefineInputs> inputs_;
+  std::size_t scene_ = SIZE_MAX;
+  std::optional<PointEvalSetup> eval_setup_;
+  std::optional<GraphResult> graph_;
+  std::optional<SweepPoint> graph_point_;
+  std::vector<double> unit_weights_;  // edge weights at λ = 1
+  double applied_lambda_ = 1.0, graph_seconds_ = 0.0;
+  std::size_t graphs_built_ = 0;
+  nlohmann::json load_seconds_ = nlohmann::json::object();
+};
+
+// results.csv, charts (unsharded runs only) and report.json from every record of the folder.
+void FinishSweep(const SweepOptions& o, OutputSet& set, const fs::path& jsonl, SweepResult& result,
+                 nlohmann::json& report, const Timer& total_timer, const nlohmann::json& load_seconds) {
+  std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string()).records;
+  SortRecords(records);
+  // A shard's charts would show only its slice: shards write the CSV, `merge` draws the charts.
+  const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records, /*charts=*/o.shard.count == 1);
+  for (const auto& s : summaries["skipped_charts"])
+    report["warnings"].push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
+  report["outputs"] = summaries;
+  report["counts"] = {{"points_total", result.total}, {"points_in_shard", result.in_shard},
+                      {"already_done", result.already_done}, {"ran", result.ran},
+                      {"empty_graphs", result.empty_graphs}, {"graphs_built", result.graphs_built},
+                      {"records", records.size()}};
+  report["timings_s"] = {{"load", load_seconds}, {"total", total_timer.Seconds()}};
+  result.report = set.Commit(report);
+}
+
+}  // namespace
+
+SweepResult RunSweep(const SweepOptions& o) {
+  Timer total_timer;
+  const auto solvers = CheckOptionsAndMakeSolvers(o);
+  const std::vector<SweepPoint> points = EnumeratePoints(o.grid);
+  const std::size_t P = points.size();
+  SweepResult result;
+  result.total = o.scenes.size() * P;
+  const auto [begin, end] = ShardRange(result.total, o.shard);
+  result.in_shard = end - begin;
+  // A dry run checks every scene: it stands for all the shards about to be submitted.
+  for (std::size_t s = o.dry_run ? 0 : begin / P; s < o.scenes.size() && (o.dry_run || s * P < end); ++s)
+    CheckInputsExist(o.scenes[s]);
+  const ShardInfo info = MakeShardInfo(o);
+  if (fs::exists(o.out_dir)) CheckOutDir(o.out_dir, info);
+  if (o.dry_run) return result;
+
+  OutputSet set(o.out_dir, SweepOutputSetOptions(o));
+  nlohmann::json report = NewReport("sweep");
+  report["params"] = SweepParams(o);
+  WriteShardInfo(set.Journal("shard.json").parent_path().string(), info);
+  const fs::path jsonl = set.Journal("results.jsonl");
+  ResultsFile results = OpenResults(jsonl, report["warnings"]);
+  PointRunner runner(o, report, set.dir() / ".al-eval-scratch");
+  for (std::size_t j = begin; j < end; ++j) {
+    const SweepPoint& p = points[j % P];
+    SweepProgress progress{j - begin + 1, end - begin, nullptr, PointId(o.scenes[j / P].name, p)};
+    if (results.done.count(progress.id)) {
+      ++result.already_done;
+      if (o.on_point) o.on_point(progress);
+      continue;
+    }
+    const nlohmann::json record = runner.Run(j / P, p, progress.id, *solvers.at(p.solver));
+    results.out << record.dump() << '\n';
+    results.out.flush();
+    if (!results.out) throw FileError(jsonl.string(), "write failed (disk full?)");
+    ++result.ran;
+    result.empty_graphs += record["status"] == "empty_graph";
+    progress.record = &record;
+    if (o.on_point) o.on_point(progress);
+  }
+  results.out.close();
+  result.graphs_built = runner.graphs_built();
+  FinishSweep(o, set, jsonl, result, report, total_timer, runner.load_seconds());
+  return result;
+}
+
+}  // namespace al
