@@ -4,17 +4,12 @@
 #include <cstring>
 #include <iostream>
 #include <map>
-
 #include <new>
 
-#include <omp.h>
-#include <unistd.h>
-
 #include "al/core/error.hpp"
-#include "al/core/memory_limit.hpp"
-#include "al/core/output_set.hpp"
 #include "src/cli/command.hpp"
 #include "src/cli/openmp_defaults.hpp"
+#include "src/cli/run_policy.hpp"
 
 namespace al::cli {
 
@@ -37,25 +32,6 @@ std::vector<std::string> WithDefaultSubcommand(int argc, char** argv,
   const bool is_global = first == "-h" || first == "--help" || first == "--version";
   if (is_flag && !is_global && names.count("refine")) args.insert(args.begin(), "refine");
   return args;
-}
-
-// Flags every subcommand takes (docs/reliability.md): the memory bound and, where a command
-// writes --out, permission to replace files al-refine did not write.
-void AddRunPolicyFlags(CLI::App& sub, std::string& max_memory, bool& force) {
-  sub.add_option("--max-memory", max_memory,
-                 "Refuse inputs whose estimated memory exceeds this (8G, 512M, 60%); default: half of physical memory");
-  if (sub.get_option_no_throw("--out"))
-    sub.add_flag("--force", force, "Replace files in --out that no earlier al-refine manifest lists");
-}
-
-// Allocation failure is bad input (too big for this machine), exit 2 with a message, never 4:
-// outside parallel regions it unwinds (outputs staged so far are dropped); inside one it cannot
-// cross the region, so the process ends here (the next run cleans the staging it leaves).
-void OnOutOfMemory() {
-  if (!omp_in_parallel()) throw std::bad_alloc();
-  static const char msg[] = "al-refine: error: out of memory (the input is too large for this machine; see --max-memory)\n";
-  (void)!::write(2, msg, sizeof msg - 1);
-  ::_exit(static_cast<int>(al::ExitCode::kBadInput));
 }
 
 }  // namespace
@@ -104,8 +80,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < subs.size(); ++i) {
     if (!subs[i]->parsed()) continue;
     try {
-      if (!max_memory.empty()) al::SetMemoryLimitBytes(al::ParseMemorySize(max_memory));
-      al::SetForceOutputs(force);
+      ApplyRunPolicy(max_memory, force);
       return commands[i]->Run();
     } catch (const al::Error& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": error: " << e.what() << "\n";
