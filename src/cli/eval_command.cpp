@@ -65,6 +65,9 @@ class EvalCommand : public Command {
     app.add_option("--depth-norm", depth_norm_, "Float-mode depth normaliser: maxdiff | range")
         ->check(CLI::IsMember({"maxdiff", "range"}))
         ->default_val("maxdiff");
+    app.add_option("--depth-holes", holes_, "before: a pixel with depth before and none after is a depth change "
+                                            "(released evaluator); both: it is ignored")
+        ->check(CLI::IsMember({"before", "both"}))->capture_default_str();
     app.add_option("--alpha-hit", o_.float_depth.alpha_hit, "A pixel has depth iff alpha > this")->default_val(0.0);
     app.add_option("--ght-nu", o_.ght.nu, "GHT nu")->default_val(1000.0);
     app.add_option("--ght-tau", o_.ght.tau, "GHT tau")->default_val(300.0);
@@ -79,6 +82,7 @@ class EvalCommand : public Command {
       throw Error("eval: more --seg-refined/--sam-refined folders than --refined sets", ExitCode::kUsage);
     o_.render.background = ParseBackground(bg_);
     o_.float_depth.depth_norm = depth_norm_ == "range" ? metrics::DepthNorm::kRange : metrics::DepthNorm::kMaxDiff;
+    o_.depth_holes = *metrics::DepthHolesFromName(holes_);
     o_.write_images = !no_images_;
     o_.progress = !quiet_;
     o_.seg_before_dir = seg_before_;
@@ -178,7 +182,7 @@ class EvalCommand : public Command {
   std::string scene_, removed_, removed_is_ = "removed", label_, cameras_, views_ = "all";
   std::vector<std::string> refined_, seg_refined_, sam_refined_;
   std::string object_masks_, labels_, seg_before_, seg_after_, seg_class_, sam_before_, sam_after_;
-  std::string row_name_, bg_ = "0", depth_norm_ = "maxdiff";
+  std::string row_name_, bg_ = "0", depth_norm_ = "maxdiff", holes_ = "before";
   int object_id_ = kUnset;
   bool no_images_ = false, quiet_ = false;
   eval::EvalOptions o_;

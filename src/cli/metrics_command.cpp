@@ -35,35 +35,34 @@ class MetricsCommand : public Command {
         ->default_val(0.10);
     app.add_option("--ght-nu", o_.ght.nu, "GHT nu")->default_val(1000.0);
     app.add_option("--ght-tau", o_.ght.tau, "GHT tau")->default_val(300.0);
+    app.add_option("--depth-holes", holes_,
+                   "Depth 0 = no depth. before: |delta| = 0 only where the depth before is missing, so a pixel "
+                   "whose depth vanished counts as a change (released evaluator); both: also where the depth "
+                   "after is missing (al-refine before issue 16)")
+        ->check(CLI::IsMember({"before", "both"}))->capture_default_str();
+    app.add_option("--trust-min-object-pixels", o_.trust.min_object_pixels,
+                   "acc_delta_depth trust flag small_object below this many object pixels")->capture_default_str();
+    app.add_option("--trust-max-outside-share", o_.trust.max_outside_share,
+                   "Flag change_outside_object above this share of changed pixels outside the object")
+        ->capture_default_str();
+    app.add_option("--trust-min-object-peak", o_.trust.min_object_peak,
+                   "Flag stretch_outside_object below this object peak / image peak change")->capture_default_str();
+    app.add_option("--trust-min-object-median", o_.trust.min_object_median,
+                   "Flag object_change_compressed below this object median / image peak change")->capture_default_str();
   }
   int Run() override {
     namespace fs = std::filesystem;
     const auto start = std::chrono::steady_clock::now();
     o_.dir = dir_;
+    o_.depth_holes = *metrics::DepthHolesFromName(holes_);
     const fs::path out = out_.empty() ? fs::path(dir_) / "al_metrics" : fs::path(out_);
     OutputSet set(out, OutputSetOptions("metrics", {dir_}, {"semantic.json", "depth.json", "sam.json", "collateral.json", "report.json"}));
     const metrics::DirectoryMetricsResult r = metrics::EvaluateDirectory(o_);
     const auto files = metrics::WriteDirectoryMetrics(r, set.dir());
 
     nlohmann::json report = NewReport("metrics");
-    report["params"] = {{"dir", dir_},
-                        {"out", out.string()},
-                        {"object_masks", o_.object_masks.string()},
-                        {"seg_before", o_.seg_before.string()},
-                        {"seg_after", o_.seg_after.string()},
-                        {"seg_class", o_.seg_class},
-                        {"depth_before", o_.depth_before.string()},
-                        {"depth_after", o_.depth_after.string()},
-                        {"depth_mode", "8bit"},
-                        {"sam_a", o_.sam_a.string()},
-                        {"sam_b", o_.sam_b.string()},
-                        {"rgb_before", o_.rgb_before.string()},
-                        {"rgb_after", o_.rgb_after.string()},
-                        {"sam_min_iou", o_.sim_sam.min_object_iou},
-                        {"sam_object_threshold", o_.sim_sam.object_threshold},
-                        {"ght", {{"nu", o_.ght.nu}, {"tau", o_.ght.tau}, {"kappa", o_.ght.kappa}, {"omega", o_.ght.omega}}},
-                        {"acc_seg_thresholds", o_.semantic.acc_seg_thresholds},
-                        {"table_thresholds", o_.semantic.table_thresholds}};
+    report["params"] = o_.ToJson();
+    report["params"]["out"] = out.string();
     report["inputs"]["dir"] = {{"path", dir_}};
     report["counts"] = r.counts;
     report["metrics"] = metrics::SummaryJson(r);
@@ -79,17 +78,19 @@ class MetricsCommand : public Command {
                 << ", acc_seg@0.5 " << m["semantic"]["acc_seg"]["0.5"] << "\n";
     if (m.contains("depth"))
       std::cout << "depth:    " << m["depth"]["n_images"] << " images, acc_delta_depth "
-                << m["depth"]["mean_acc_delta_depth"] << "\n";
+                << m["depth"]["mean_acc_delta_depth"] << " (depth holes: " << holes_ << "; "
+                << m["depth"]["trust"]["flagged_images"] << " flagged as untrustworthy)\n";
     if (m.contains("sim_sam"))
       std::cout << "sim_SAM:  " << m["sim_sam"]["n_scored"] << " scored (" << m["sim_sam"]["dropped_empty_side"]
                 << " dropped), mean " << m["sim_sam"]["mean_sim_sam"] << "\n";
     for (const auto& s : r.skipped) std::cout << "skipped " << s.metric << ": " << s.reason << "\n";
+    for (const auto& w : r.warnings) std::cerr << "warning: " << w << "\n";
     std::cout << "wrote " << (out / "report.json").string() << "\n";
     return 0;
   }
 
  private:
-  std::string dir_, out_;
+  std::string dir_, out_, holes_ = "before";
   metrics::DirectoryMetricsOptions o_;
 };
 

@@ -10,15 +10,11 @@ namespace {
 
 json MeanStdJson(const metrics::MeanStd& m) { return {{"mean", m.mean}, {"std", m.std}, {"count", m.count}}; }
 
-json DepthSummaryJson(const metrics::DepthSummary& s, const std::string& mode) {
-  return {{"mode", mode},
-          {"n_images", s.images},
-          {"mean_acc_delta_depth", s.acc_delta_depth.mean},
-          {"std_acc_delta_depth", s.acc_delta_depth.std},
-          {"mean_iou", s.iou.mean},
-          {"std_iou", s.iou.std},
-          {"collateral_depth", MeanStdJson(s.collateral_depth)},
-          {"constant_masks", s.constant_masks}};
+json DepthSummaryJson(const metrics::DepthSummary& s, const std::string& mode, const EvalOptions& o) {
+  json j = s.ToJson("view");
+  j["mode"] = mode;
+  j["depth_holes"] = metrics::DepthHolesName(o.depth_holes);
+  return j;
 }
 
 json SemanticSummaryJson(const metrics::SemanticSummary& s) {
@@ -57,6 +53,8 @@ void AddEvalParams(json& report, const std::vector<EvalColumn>& columns, const O
   params["ght"] = {{"nu", o.ght.nu}, {"tau", o.ght.tau}, {"kappa", o.ght.kappa}, {"omega", o.ght.omega}};
   params["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
   params["alpha_hit"] = o.float_depth.alpha_hit;
+  params["depth_holes"] = metrics::DepthHolesName(o.depth_holes);
+  params["depth_trust"] = o.trust.ToJson();
   params["sam_min_iou"] = o.sim_sam.min_object_iou;
   params["export_renders"] = o.export_renders;
   params["write_images"] = o.write_images;
@@ -66,8 +64,8 @@ json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const E
   json j = {{"name", column.name},
             {"label", column.label},
             {"num_removed", s.num_removed},
-            {"depth", DepthSummaryJson(s.depth8, "8bit")},
-            {"depth_float", DepthSummaryJson(s.depth_float, "float")},
+            {"depth", DepthSummaryJson(s.depth8, "8bit", o)},
+            {"depth_float", DepthSummaryJson(s.depth_float, "float", o)},
             {"collateral_psnr", {{"psnr", MeanStdJson(s.collateral_psnr)}, {"identical", s.identical}}}};
   j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
   if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);

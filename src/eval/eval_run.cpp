@@ -73,6 +73,31 @@ void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std:
       throw Error("eval: no Gaussian has object id " + std::to_string(object.object_id) + " in the labels");
   }
   if (!(o.ght.nu >= 0) || !(o.ght.tau >= 0)) throw Error("eval: GHT nu and tau must be >= 0", ExitCode::kUsage);
+  if (const std::string problem = o.trust.Check(); !problem.empty()) throw Error("eval: " + problem, ExitCode::kUsage);
+}
+
+// acc_Δdepth of one column in both modes (METRICS.md §4–§6) with the trust flags; the 8-bit pair
+// and its change mask are kept for the pictures and the depth PNGs.
+void ScoreDepth(const metrics::DepthRender& before, const metrics::DepthRender& after, const metrics::Mask& object,
+                const EvalOptions& o, ColumnViewMetrics& m, metrics::Depth8Pair& pair, metrics::Mask& changed8) {
+  pair = metrics::DepthTo8Bit(before, after, o.float_depth.alpha_hit);
+  const metrics::DepthChange ch8 = metrics::DepthChange8Bit(pair.before, pair.after, o.ght, o.depth_holes);
+  m.depth8 = metrics::ScoreDepthChange(&object, ch8.changed);
+  m.threshold8 = ch8.threshold;
+  m.constant8 = ch8.constant;
+  m.trust8 = metrics::AssessDepthTrust(&object, ch8, o.trust);
+  m.holes_before8 = ch8.holes_before;
+  m.holes_after8 = ch8.holes_after;
+  changed8 = ch8.changed;
+  metrics::FloatDepthOptions fo = o.float_depth;
+  fo.ght = o.ght;
+  fo.holes = o.depth_holes;
+  const metrics::DepthChange chf = metrics::DepthChangeFloat(before, after, fo);
+  m.depth_float = metrics::ScoreDepthChange(&object, chf.changed);
+  m.threshold_float = chf.threshold;
+  m.trust_float = metrics::AssessDepthTrust(&object, chf, o.trust);
+  m.holes_before_float = chf.holes_before;
+  m.holes_after_float = chf.holes_after;
 }
 
 }  // namespace
@@ -214,18 +239,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     for (std::size_t c = 0; c < nc; ++c) {
       ColumnViewMetrics m;
       m.tiles_rendered = after[c].tiles_rendered;
-      const metrics::DepthRender depth_after = ToDepthRender(after[c]);
-      pairs[c] = metrics::DepthTo8Bit(depth_before, depth_after, o.float_depth.alpha_hit);
-      const metrics::DepthChange ch8 = metrics::DepthChange8Bit(pairs[c].before, pairs[c].after, o.ght);
-      m.depth8 = metrics::ScoreDepthChange(&object_mask, ch8.changed);
-      m.threshold8 = ch8.threshold;
-      m.constant8 = ch8.constant;
-      changed[c] = ch8.changed;
-      metrics::FloatDepthOptions fo = o.float_depth;
-      fo.ght = o.ght;
-      const metrics::DepthChange chf = metrics::DepthChangeFloat(depth_before, depth_after, fo);
-      m.depth_float = metrics::ScoreDepthChange(&object_mask, chf.changed);
-      m.threshold_float = chf.threshold;
+      ScoreDepth(depth_before, ToDepthRender(after[c]), object_mask, o, m, pairs[c], changed[c]);
       const metrics::CollateralPsnr psnr = metrics::ComputeCollateralPsnr(rgb_before, ToRgbImage(after[c]), &object_mask);
       m.collateral_psnr = psnr.psnr;
       m.identical = psnr.identical;
@@ -294,8 +308,9 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     for (const ViewRecord& v : r.views) {
       if (!v.evaluated) continue;
       const ColumnViewMetrics& m = v.columns[c];
-      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8});
-      df.push_back({v.name, m.depth_float, m.threshold_float, false});
+      d8.push_back({v.name, m.depth8, m.threshold8, m.constant8, m.trust8, m.holes_before8, m.holes_after8});
+      df.push_back({v.name, m.depth_float, m.threshold_float, false, m.trust_float, m.holes_before_float,
+                    m.holes_after_float});
       if (m.collateral_psnr) psnr.push_back(*m.collateral_psnr);
       s.identical += m.identical;
       if (m.semantic) sem.push_back(*m.semantic);

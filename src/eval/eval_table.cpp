@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <sstream>
 
@@ -26,6 +27,13 @@ std::string Num(double v) {
 }
 
 std::string Opt(const std::optional<double>& v) { return v ? Num(*v) : ""; }
+
+// "small_object;change_outside_object" (empty = trusted).
+std::string JoinFlags(const metrics::DepthTrust& trust) {
+  std::string out;
+  for (const auto& f : trust.Flags()) out += (out.empty() ? "" : ";") + f;
+  return out;
+}
 
 // CSV field: quoted when it holds a separator, quote or newline.
 std::string CsvField(const std::string& s) {
@@ -65,6 +73,12 @@ const Group kGroups[3] = {
     {"sim_SAM ↓", "sim$_{\\text{SAM}}\\downarrow$", false, &TableRow::sim_sam},
 };
 
+// Footnote number of a cell (only the acc_Δdepth group has notes), 0 = none.
+int NoteNumber(const TableRow& row, const Group& g, std::size_t method) {
+  if (g.values != &TableRow::acc_delta_depth || method >= row.acc_delta_depth_note.size()) return 0;
+  return row.acc_delta_depth_note[method];
+}
+
 }  // namespace
 
 std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bool higher_is_better) {
@@ -87,6 +101,45 @@ std::vector<int> RankValues(const std::vector<std::optional<double>>& values, bo
   return rank;
 }
 
+namespace {
+
+DepthTrustNote NoteOf(const std::string& method, const metrics::DepthSummary& s) {
+  DepthTrustNote n;
+  n.method = method;
+  n.flagged = s.flagged.size();
+  n.views = s.images;
+  std::map<std::string, std::vector<std::string>> by_flag;
+  for (const auto& [view, flags] : s.flagged)
+    for (const auto& f : flags) by_flag[f].push_back(view);
+  n.views_by_flag.assign(by_flag.begin(), by_flag.end());
+  if (s.acc_delta_depth_trusted.count) n.trusted_mean = s.acc_delta_depth_trusted.mean;
+  return n;
+}
+
+// "fgs: acc_Δdepth cannot be trusted in 3 of 12 views (small_object: v1, v2; ...); mean over the
+// 9 other views 0.52." with `esc` applied to names and `delta` for the metric's name.
+std::string NoteText(const DepthTrustNote& n, std::string (*esc)(const std::string&), const std::string& delta) {
+  std::ostringstream s;
+  s << esc(n.method) << ": " << delta << " cannot be trusted in " << n.flagged << " of " << n.views << " views (";
+  constexpr std::size_t kListed = 6;  // longer lists are cut: report.json has them all
+  for (std::size_t i = 0; i < n.views_by_flag.size(); ++i) {
+    const auto& [flag, views] = n.views_by_flag[i];
+    s << (i ? "; " : "") << esc(flag) << ":";
+    if (views.size() == n.views) {
+      s << " all";
+      continue;
+    }
+    for (std::size_t v = 0; v < std::min(views.size(), kListed); ++v) s << (v ? ", " : " ") << esc(views[v]);
+    if (views.size() > kListed) s << " and " << views.size() - kListed << " more";
+  }
+  s << "); ";
+  if (n.trusted_mean) s << "mean over the " << n.views - n.flagged << " other views " << Fixed(*n.trusted_mean) << ".";
+  else s << "no view can be trusted.";
+  return s.str();
+}
+
+}  // namespace
+
 Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result) {
   Table t;
   TableRow row;
@@ -99,6 +152,11 @@ Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>
                                                                  : std::nullopt);
     row.acc_delta_depth.push_back(any ? std::optional<double>(s.depth8.acc_delta_depth.mean) : std::nullopt);
     row.sim_sam.push_back(s.sim_sam && s.sim_sam->count > 0 ? std::optional<double>(s.sim_sam->mean) : std::nullopt);
+    row.acc_delta_depth_note.push_back(0);
+    if (any && !s.depth8.flagged.empty()) {
+      t.notes.push_back(NoteOf(columns[c].label, s.depth8));
+      row.acc_delta_depth_note.back() = int(t.notes.size());
+    }
   }
   t.rows.push_back(std::move(row));
   return t;
@@ -123,12 +181,17 @@ std::string TableMarkdown(const Table& t) {
           continue;
         }
         const std::string x = Fixed(*v[i]);
-        s << ' ' << (rank[i] == 1 ? "**" + x + "**" : rank[i] == 2 ? "<u>" + x + "</u>" : x) << " |";
+        const int note = NoteNumber(r, g, i);
+        s << ' ' << (rank[i] == 1 ? "**" + x + "**" : rank[i] == 2 ? "<u>" + x + "</u>" : x)
+          << (note ? "<sup>" + std::to_string(note) + "</sup>" : "") << " |";
       }
     }
     s << "\n";
   }
   s << "\n**best** and <u>second best</u> per row and metric; – = not computed (see report.json `skipped`).\n";
+  for (std::size_t i = 0; i < t.notes.size(); ++i)
+    s << "\n<sup>" << i + 1 << "</sup> " << NoteText(t.notes[i], MarkdownEscape, "acc_Δdepth")
+      << " Flags: docs/metrics.md; per view: report.json `depth.trust`.\n";
   return s.str();
 }
 
@@ -155,12 +218,17 @@ std::string TableLatex(const Table& t) {
           continue;
         }
         const std::string x = Fixed(*v[i]);
-        s << " & " << (rank[i] == 1 ? "\\textbf{" + x + "}" : rank[i] == 2 ? "\\underline{" + x + "}" : x);
+        const int note = NoteNumber(r, g, i);
+        s << " & " << (rank[i] == 1 ? "\\textbf{" + x + "}" : rank[i] == 2 ? "\\underline{" + x + "}" : x)
+          << (note ? "$^{" + std::to_string(note) + "}$" : "");
       }
     }
     s << " \\\\\n";
   }
   s << "  \\bottomrule\n\\end{tabular}\n";
+  for (std::size_t i = 0; i < t.notes.size(); ++i)
+    s << "\\par\\footnotesize $^{" << i + 1 << "}$ "
+      << NoteText(t.notes[i], LatexEscape, "acc$_{\\Delta\\text{depth}}$") << "\n";
   return s.str();
 }
 
@@ -168,7 +236,8 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
   static const char* kFields[] = {"acc_delta_depth", "iou_depth", "collateral_depth", "ght_threshold",
                                   "constant_mask", "acc_delta_depth_float", "iou_depth_float",
                                   "collateral_depth_float", "collateral_psnr", "iou_before", "iou_after",
-                                  "iou_drop", "sim_sam", "sim_sam_n_a", "sim_sam_n_b", "tiles_rendered"};
+                                  "iou_drop", "sim_sam", "sim_sam_n_a", "sim_sam_n_b", "tiles_rendered",
+                                  "depth_flags", "depth_float_flags"};
   std::ostringstream s;
   s << "view,evaluated,object_pixels,width,height";
   for (const auto& c : columns)
@@ -190,7 +259,8 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
         << Opt(m.collateral_psnr) << ',' << (sem ? Num(m.semantic->iou_before) : "") << ','
         << (sem ? Num(m.semantic->iou_after) : "") << ',' << (sem ? Num(m.semantic->iou_drop) : "") << ','
         << (sam ? Num(m.sim_sam->sim_sam) : "") << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_gt) : "")
-        << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_sam) : "") << ',' << m.tiles_rendered;
+        << ',' << (m.sim_sam ? std::to_string(m.sim_sam->n_sam) : "") << ',' << m.tiles_rendered << ','
+        << CsvField(JoinFlags(m.trust8)) << ',' << CsvField(JoinFlags(m.trust_float));
     }
     s << "\n";
   }

@@ -66,36 +66,64 @@ Histogram256 HistogramOf(const std::vector<std::uint8_t>& bytes) {
 
 }  // namespace
 
-DepthChange DepthChange8Bit(const Gray8& before, const Gray8& after, const GhtOptions& options) {
+const char* DepthHolesName(DepthHoles holes) { return holes == DepthHoles::kBoth ? "both" : "before"; }
+
+std::optional<DepthHoles> DepthHolesFromName(const std::string& name) {
+  if (name == "before") return DepthHoles::kBefore;
+  if (name == "both") return DepthHoles::kBoth;
+  return std::nullopt;
+}
+
+namespace {
+
+// Step 1 of METRICS.md §4: |Δ| in float32, 0 where the depth before is missing (and, with kBoth,
+// where the depth after is missing). Counts the holes into r.
+std::vector<float> AbsDifference8Bit(const Gray8& before, const Gray8& after, DepthHoles holes, DepthChange& r) {
+  std::vector<float> a(before.pixels.size(), 0.0f);
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const std::uint8_t d1 = before.pixels[i], d2 = after.pixels[i];
+    if (d1 == 0) {
+      ++r.holes_before;
+      continue;
+    }
+    if (d2 == 0) {
+      ++r.holes_after;
+      if (holes == DepthHoles::kBoth) continue;
+    } else {
+      ++r.valid_pixels;
+    }
+    a[i] = std::fabs(float(d2) - float(d1));
+  }
+  return a;
+}
+
+// Step 2: min–max stretch (kept in r.level), colormap index, inverted gray LUT into r.image.
+void StretchAndInvert(const std::vector<float>& a, DepthChange& r) {
+  r.level.assign(a.size(), 0.0f);
+  if (a.empty()) return;
+  const auto [lo_it, hi_it] = std::minmax_element(a.begin(), a.end());
+  const float lo = *lo_it, hi = *hi_it;
+  if (hi == lo) return;  // constant |Δ|: every byte 255
+  const auto& lut = GrayReversedLut();
+  const float range = hi - lo;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    const float unit = (a[i] - lo) / range;
+    r.level[i] = 256.0f * unit;
+    r.image.pixels[i] = lut[std::min(int(std::trunc(r.level[i])), 255)];
+  }
+}
+
+}  // namespace
+
+DepthChange DepthChange8Bit(const Gray8& before, const Gray8& after, const GhtOptions& options, DepthHoles holes) {
   if (before.width != after.width || before.height != after.height)
     throw Error("depth pair size mismatch: " + std::to_string(before.width) + "x" + std::to_string(before.height) +
                 " vs " + std::to_string(after.width) + "x" + std::to_string(after.height));
   const std::size_t n = before.pixels.size();
   DepthChange r;
-  // Step 1: |Δ| in float32, 0 where either depth is missing.
-  std::vector<float> a(n, 0.0f);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t d1 = before.pixels[i], d2 = after.pixels[i];
-    if (d1 != 0 && d2 != 0) {
-      ++r.valid_pixels;
-      a[i] = std::fabs(float(d2) - float(d1));
-    }
-  }
-  // Step 2: min–max normalisation, colormap index, inverted gray LUT.
+  const std::vector<float> a = AbsDifference8Bit(before, after, holes, r);
   r.image = {before.width, before.height, std::vector<std::uint8_t>(n, 255)};
-  if (n > 0) {
-    const auto [lo_it, hi_it] = std::minmax_element(a.begin(), a.end());
-    const float lo = *lo_it, hi = *hi_it;
-    if (hi != lo) {
-      const auto& lut = GrayReversedLut();
-      const float range = hi - lo;
-      for (std::size_t i = 0; i < n; ++i) {
-        const float unit = (a[i] - lo) / range;
-        const int idx = std::min(int(std::trunc(256.0f * unit)), 255);
-        r.image.pixels[i] = lut[idx];
-      }
-    }
-  }
+  StretchAndInvert(a, r);
   // Steps 3–5: whole-image histogram, GHT, strict `byte < t`, constant mask = no change.
   r.threshold = GhtThreshold(HistogramOf(r.image.pixels), options);
   r.changed = {before.width, before.height, std::vector<std::uint8_t>(n, 0)};
@@ -132,31 +160,62 @@ void CheckSameSize(const DepthRender& a, const DepthRender& b) {
 
 }  // namespace
 
-DepthChange DepthChangeFloat(const DepthRender& before, const DepthRender& after, const FloatDepthOptions& options) {
-  CheckSameSize(before, after);
-  const auto h1 = HitMask(before, options.alpha_hit), h2 = HitMask(after, options.alpha_hit);
-  const std::size_t n = h1.size();
-  DepthChange r;
-  std::vector<double> delta(n, 0.0);
+namespace {
+
+// Per-pixel float change of METRICS.md §5 step 1; a hit before that is empty after is marked in
+// `vanished` (it takes the top bin under DepthHoles::kBefore).
+struct FloatDifference {
+  std::vector<double> delta;
+  std::vector<std::uint8_t> vanished;
   double max_delta = 0, zmin = std::numeric_limits<double>::infinity(), zmax = -zmin;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (h1[i]) zmin = std::min(zmin, double(before.depth[i])), zmax = std::max(zmax, double(before.depth[i]));
-    if (h2[i]) zmin = std::min(zmin, double(after.depth[i])), zmax = std::max(zmax, double(after.depth[i]));
-    if (h1[i] && h2[i]) {
+};
+
+FloatDifference DifferenceFloat(const DepthRender& before, const DepthRender& after, const FloatDepthOptions& o,
+                                DepthChange& r) {
+  const auto h1 = HitMask(before, o.alpha_hit), h2 = HitMask(after, o.alpha_hit);
+  FloatDifference d;
+  d.delta.assign(h1.size(), 0.0);
+  d.vanished.assign(h1.size(), 0);
+  for (std::size_t i = 0; i < h1.size(); ++i) {
+    if (h1[i]) d.zmin = std::min(d.zmin, double(before.depth[i])), d.zmax = std::max(d.zmax, double(before.depth[i]));
+    if (h2[i]) d.zmin = std::min(d.zmin, double(after.depth[i])), d.zmax = std::max(d.zmax, double(after.depth[i]));
+    if (!h1[i]) {
+      ++r.holes_before;
+    } else if (!h2[i]) {
+      ++r.holes_after;
+      d.vanished[i] = o.holes == DepthHoles::kBefore;
+    } else {
       ++r.valid_pixels;
-      delta[i] = std::fabs(double(after.depth[i]) - double(before.depth[i]));
-      max_delta = std::max(max_delta, delta[i]);
+      d.delta[i] = std::fabs(double(after.depth[i]) - double(before.depth[i]));
+      d.max_delta = std::max(d.max_delta, d.delta[i]);
     }
   }
-  const double range = options.depth_norm == DepthNorm::kMaxDiff ? max_delta : (zmax > zmin ? zmax - zmin : 0.0);
+  return d;
+}
+
+}  // namespace
+
+DepthChange DepthChangeFloat(const DepthRender& before, const DepthRender& after, const FloatDepthOptions& options) {
+  CheckSameSize(before, after);
+  DepthChange r;
+  const FloatDifference d = DifferenceFloat(before, after, options, r);
+  const std::size_t n = d.delta.size();
+  const double range =
+      options.depth_norm == DepthNorm::kMaxDiff ? d.max_delta : (d.zmax > d.zmin ? d.zmax - d.zmin : 0.0);
+  const bool any_vanished = std::find(d.vanished.begin(), d.vanished.end(), 1) != d.vanished.end();
+  const bool scaled = range > 0 && std::isfinite(range);
   r.image = {before.width, before.height, std::vector<std::uint8_t>(n, 0)};
   r.changed = {before.width, before.height, std::vector<std::uint8_t>(n, 0)};
-  if (!(range > 0) || !std::isfinite(range)) {
+  r.level.assign(n, 0.0f);
+  if (!scaled && !any_vanished) {
     r.constant = true;  // nothing valid changed: acc 0
     return r;
   }
-  for (std::size_t i = 0; i < n; ++i)
-    r.image.pixels[i] = std::uint8_t(std::min(std::floor(256.0 * delta[i] / range), 255.0));
+  for (std::size_t i = 0; i < n; ++i) {
+    const double level = d.vanished[i] ? 256.0 : scaled ? std::min(256.0 * d.delta[i] / range, 256.0) : 0.0;
+    r.level[i] = float(level);
+    r.image.pixels[i] = std::uint8_t(std::min(std::floor(level), 255.0));
+  }
   r.threshold = GhtThreshold(HistogramOf(r.image.pixels), options.ght);
   std::size_t changed = 0;
   for (std::size_t i = 0; i < n; ++i) changed += r.changed.bits[i] = double(r.image.pixels[i]) > r.threshold;
@@ -201,23 +260,6 @@ DepthScore ScoreDepthChange(const Mask* object, const Mask& changed) {
   s.iou = ov.union_ == 0 ? 0.0 : double(ov.intersection) / double(ov.union_);
   const std::int64_t outside = std::int64_t(o.bits.size()) - ov.a;
   s.collateral_depth = outside == 0 ? 0.0 : double(ov.b - ov.intersection) / double(outside);
-  return s;
-}
-
-DepthSummary SummarizeDepth(const std::vector<DepthRecord>& records) {
-  DepthSummary s;
-  s.images = records.size();
-  std::vector<double> acc, iou, col;
-  for (const auto& r : records) {
-    acc.push_back(r.score.acc_delta_depth);
-    iou.push_back(r.score.iou);
-    col.push_back(r.score.collateral_depth);
-    s.constant_masks += r.constant;
-    s.missing_object += r.score.missing_object;
-  }
-  s.acc_delta_depth = ComputeMeanStd(acc);
-  s.iou = ComputeMeanStd(iou);
-  s.collateral_depth = ComputeMeanStd(col);
   return s;
 }
 

@@ -80,13 +80,26 @@ bool LoadObjectMask(const fs::path& path, Mask& out, std::vector<std::string>& w
   }
 }
 
+// A detector folder that does not exist is scored as all-empty detections (METRICS.md §2.1, the
+// released behaviour); one warning names the absent folders.
+void WarnAbsentDetectorFolders(const fs::path& before, const fs::path& after, DirectoryMetricsResult& r) {
+  std::vector<std::string> absent;
+  for (const fs::path* d : {&before, &after})
+    if (!IsDir(*d)) absent.push_back(d->string());
+  r.counts["semantic"]["absent_detector_folders"] = absent;
+  if (absent.empty()) return;
+  std::string list = absent[0];
+  if (absent.size() == 2) list += " and " + absent[1];
+  r.warnings.push_back("semantic: no detector mask folder " + list +
+                       ": every image is scored with an empty detection there (IoU 0), as the released "
+                       "evaluator does; run GroundedSAM on the renders to score the detections");
+}
+
 void RunSemantic(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
   const fs::path objects = Resolve(o.dir, o.object_masks), before = Resolve(o.dir, o.seg_before),
                  after = Resolve(o.dir, o.seg_after);
   if (!IsDir(objects)) return r.skipped.push_back({"semantic", "no object mask directory " + objects.string()});
-  if (!IsDir(before) || !IsDir(after))
-    return r.skipped.push_back({"semantic", "no detector mask directories " + before.string() + " and " +
-                                                after.string() + " (run GroundedSAM on the renders)"});
+  WarnAbsentDetectorFolders(before, after, r);
   std::size_t unreadable = 0;
   for (const auto& [stem, path] : ListByStem(objects, ".png")) {
     Gray8 object;
@@ -105,10 +118,24 @@ void RunSemantic(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
   }
   r.ran_semantic = true;
   r.semantic_summary = SummarizeSemantic(r.semantic, o.semantic);
-  r.counts["semantic"] = {{"images", r.semantic.size()},
-                          {"unreadable_object_masks", unreadable},
-                          {"missing_before", r.semantic_summary.missing_before},
-                          {"missing_after", r.semantic_summary.missing_after}};
+  r.counts["semantic"].update({{"images", r.semantic.size()},
+                               {"unreadable_object_masks", unreadable},
+                               {"missing_before", r.semantic_summary.missing_before},
+                               {"missing_after", r.semantic_summary.missing_after}});
+}
+
+DepthRecord ScoreDepthPair(const std::string& stem, const Gray8& d1, const Gray8& d2, const Mask* object,
+                           const DirectoryMetricsOptions& o) {
+  const DepthChange change = DepthChange8Bit(d1, d2, o.ght, o.depth_holes);
+  DepthRecord rec;
+  rec.image = stem;
+  rec.score = ScoreDepthChange(object, change.changed);
+  rec.threshold = change.threshold;
+  rec.constant = change.constant;
+  rec.trust = AssessDepthTrust(object, change, o.trust);
+  rec.holes_before = change.holes_before;
+  rec.holes_after = change.holes_after;
+  return rec;
 }
 
 void RunDepth(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
@@ -135,22 +162,17 @@ void RunDepth(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
       r.warnings.push_back("depth " + stem + ": 16-bit or colour depth PNG converted as PIL convert(\"L\") (values clipped)");
     if (d1.width != d2.width || d1.height != d2.height)
       throw FileError(it->second.string(), "depth image size differs from " + path.string());
-    DepthRecord rec;
-    rec.image = stem;
-    const DepthChange change = DepthChange8Bit(d1, d2, o.ght);
     Mask object;
     const bool has_object = LoadObjectMask(objects / (stem + ".png"), object, r.warnings);
-    rec.score = ScoreDepthChange(has_object ? &object : nullptr, change.changed);
-    rec.threshold = change.threshold;
-    rec.constant = change.constant;
-    r.depth.push_back(rec);
+    r.depth.push_back(ScoreDepthPair(stem, d1, d2, has_object ? &object : nullptr, o));
   }
   if (non_8bit) r.warnings.push_back("depth: " + std::to_string(non_8bit) + " depth PNG(s) are not 8-bit grey");
   r.ran_depth = true;
   r.depth_summary = SummarizeDepth(r.depth);
   r.counts["depth"] = {{"images", r.depth.size()},          {"missing_after", missing_after},
                        {"missing_before", missing_before},  {"missing_object_masks", r.depth_summary.missing_object},
-                       {"constant_masks", r.depth_summary.constant_masks}, {"non_8bit_inputs", non_8bit}};
+                       {"constant_masks", r.depth_summary.constant_masks}, {"non_8bit_inputs", non_8bit},
+                       {"flagged_images", r.depth_summary.flagged.size()}};
 }
 
 // SAM segment lists of a side, keyed by stem: per-image X.json parsed lazily, merged.json eagerly.
@@ -264,7 +286,29 @@ std::string DirectoryMetricsOptions::Check() const {
   if (!IsDir(dir)) return dir.string() + ": not a directory";
   if (!(sim_sam.min_object_iou >= 0 && sim_sam.min_object_iou <= 1)) return "sim_SAM filter IoU must be in [0, 1]";
   if (!(ght.nu >= 0) || !(ght.tau >= 0)) return "GHT nu and tau must be >= 0";
-  return "";
+  return trust.Check();
+}
+
+json DirectoryMetricsOptions::ToJson() const {
+  return {{"dir", dir.string()},
+          {"object_masks", object_masks.string()},
+          {"seg_before", seg_before.string()},
+          {"seg_after", seg_after.string()},
+          {"seg_class", seg_class},
+          {"depth_before", depth_before.string()},
+          {"depth_after", depth_after.string()},
+          {"depth_mode", "8bit"},
+          {"depth_holes", DepthHolesName(depth_holes)},
+          {"depth_trust", trust.ToJson()},
+          {"sam_a", sam_a.string()},
+          {"sam_b", sam_b.string()},
+          {"rgb_before", rgb_before.string()},
+          {"rgb_after", rgb_after.string()},
+          {"sam_min_iou", sim_sam.min_object_iou},
+          {"sam_object_threshold", sim_sam.object_threshold},
+          {"ght", {{"nu", ght.nu}, {"tau", ght.tau}, {"kappa", ght.kappa}, {"omega", ght.omega}}},
+          {"acc_seg_thresholds", semantic.acc_seg_thresholds},
+          {"table_thresholds", semantic.table_thresholds}};
 }
 
 SimSamSummary SummarizeSimSam(const std::vector<SimSamRecord>& records, std::size_t missing_side_b,
@@ -286,6 +330,7 @@ SimSamSummary SummarizeSimSam(const std::vector<SimSamRecord>& records, std::siz
 DirectoryMetricsResult EvaluateDirectory(const DirectoryMetricsOptions& options) {
   if (const std::string problem = options.Check(); !problem.empty()) throw Error(problem);
   DirectoryMetricsResult r;
+  r.depth_holes = options.depth_holes;
   RunSemantic(options, r);
   RunDepth(options, r);
   RunSimSam(options, r);
@@ -311,7 +356,9 @@ json DepthJson(const std::vector<DepthRecord>& records) {
                    {"collateral_depth", r.score.collateral_depth},
                    {"ght_threshold", r.threshold},
                    {"constant_mask", r.constant},
-                   {"object_mask_missing", r.score.missing_object}});
+                   {"object_mask_missing", r.score.missing_object},
+                   {"hole_pixels", {{"before", r.holes_before}, {"after_only", r.holes_after}}},
+                   {"trust", r.trust.ToJson()}});
   return out;
 }
 
@@ -356,16 +403,9 @@ json SummaryJson(const DirectoryMetricsResult& r) {
                        {"missing_after", s.missing_after}};
   }
   if (r.ran_depth) {
-    const auto& s = r.depth_summary;
-    out["depth"] = {{"mode", "8bit"},
-                    {"n_images", s.images},
-                    {"mean_acc_delta_depth", s.acc_delta_depth.mean},
-                    {"std_acc_delta_depth", s.acc_delta_depth.std},
-                    {"mean_iou", s.iou.mean},
-                    {"std_iou", s.iou.std},
-                    {"collateral_depth", MeanStdJson(s.collateral_depth)},
-                    {"constant_masks", s.constant_masks},
-                    {"missing_object_masks", s.missing_object}};
+    out["depth"] = r.depth_summary.ToJson();
+    out["depth"]["mode"] = "8bit";
+    out["depth"]["depth_holes"] = DepthHolesName(r.depth_holes);
   }
   if (r.ran_sam) {
     const auto& s = r.sam_summary;

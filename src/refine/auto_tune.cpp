@@ -113,15 +113,22 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
         if (inputs.ground_truth)
           c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
                                            inputs.ground_truth->opacity_logits).f1;
-        if (o.eval) {
-          c.eval = EvaluatePoint(inputs.scene, *o.eval, s.refined);
-          c.score = c.eval["acc_delta_depth_float"].get<double>() - c.eval["collateral_depth"].get<double>();
-        }
+        if (o.eval) c.eval = EvaluatePoint(inputs.scene, *o.eval, s.refined);
         r.candidates.push_back(std::move(c));
       }
     }
 
-  if (!o.eval) {
+  // The eval criterion never optimises a view whose acc_Δdepth is flagged (docs/metrics.md); with
+  // no view left it cannot decide, and stability does.
+  bool stability = !o.eval;
+  if (o.eval) {
+    std::vector<nlohmann::json*> evals;
+    for (auto& c : r.candidates) evals.push_back(&c.eval);
+    const auto scores = TrustedViewScores(evals);
+    for (std::size_t i = 0; scores && i < scores->size(); ++i) r.candidates[i].score = (*scores)[i];
+    if (!scores) stability = true, r.criterion = "stability (eval: acc_delta_depth flagged in every view)";
+  }
+  if (stability) {
     // Neighbours: one grid step along one axis (index = (ik·nd + id)·nl + il).
     const int K = static_cast<int>(o.k.size()), D = static_cast<int>(nd), L = static_cast<int>(nl);
     for (int ik = 0; ik < K; ++ik)

@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # refine --auto (issue #7 part 3): the chosen point is the best-scoring grid point, the refinement
 # ran with it, the runner-up is the second best; the criterion is decision stability without
-# cameras and acc_delta_depth_float - collateral_depth with them; ground truth is only reported.
+# cameras and acc_delta_depth_float - collateral_depth with them, acc only over the views no
+# candidate's trust flags mark (issue 16; every view flagged: stability decides); ground truth is
+# only reported.
 set -euo pipefail
 BIN="$1"
 T=$(mktemp -d)
@@ -10,13 +12,20 @@ trap 'rm -rf "$T"' EXIT
 COMMON=(--scene "$T/s/scene.ply" --removed "$T/s/removed_gc.npy" --labels "$T/s/labels.npy" --solver bk --quiet
         --auto --auto-k 4,8 --auto-delta 0.8,1.2 --auto-lambda 1,2)
 "$BIN" refine "${COMMON[@]}" --out "$T/stab" > "$T/stab.txt"
-"$BIN" refine "${COMMON[@]}" --cameras "$T/s/cameras.json" --object-masks "$T/s/masks" --out "$T/eval" >/dev/null
+# 40x30 views: the object covers < 256 px in both, so every view is flagged small_object.
+"$BIN" refine "${COMMON[@]}" --cameras "$T/s/cameras.json" --object-masks "$T/s/masks" --out "$T/flagged" >/dev/null
+# A room at 120x90 with 4 views: some views trusted, some flagged.
+"$BIN" synth --preset room --gaussians 8000 --seed 1 --views 4 --resolution 120x90 --quiet --out "$T/r" >/dev/null
+"$BIN" refine --scene "$T/r/scene.ply" --removed "$T/r/removed_gc.npy" --labels "$T/r/labels.npy" --solver bk --quiet \
+  --auto --auto-k 4,8 --auto-delta 0.8,1.2 --auto-lambda 1,2 --cameras "$T/r/cameras.json" --object-masks "$T/r/masks" \
+  --out "$T/eval" >/dev/null
 grep -q "chosen" "$T/stab.txt" && grep -q "runner-up" "$T/stab.txt" || { echo "FAIL: no chosen/runner-up lines"; cat "$T/stab.txt"; exit 1; }
 python3 - "$T" <<'PY'
 import json, sys, os
 T = sys.argv[1]
 def fail(msg): print('FAIL:', msg); sys.exit(1)
-for run, criterion in (('stab', 'stability'), ('eval', 'eval')):
+for run, criterion in (('stab', 'stability'), ('eval', 'eval'),
+                       ('flagged', 'stability (eval: acc_delta_depth flagged in every view)')):
     rep = json.load(open(os.path.join(T, run, 'report.json')))
     a = rep['auto']
     c = a['candidates']
@@ -34,15 +43,24 @@ for run, criterion in (('stab', 'stability'), ('eval', 'eval')):
     if (p['k'], p['delta'], p['lambda']) != (ch['k'], ch['delta'], ch['lambda']): fail('%s: refine did not run the chosen point' % run)
     if abs(rep['gt']['after']['f1'] - ch['gt_f1']) > 1e-12: fail('%s: refined F1 differs from the chosen candidate' % run)
     if a['best_by_gt']['gt_f1'] != max(x['gt_f1'] for x in c): fail('%s: best_by_gt' % run)
-    if criterion == 'stability':
+    if criterion.startswith('stability'):
         if any(not (0 <= s <= 1) for s in scores): fail('stability scores outside [0, 1]: %s' % scores)
-    else:
+    if run == 'flagged' and not all(v['flags_float'] for v in c[0]['eval']['views']): fail('flagged: a view is trusted')
+    if criterion == 'eval':
+        flagged = {v['view'] for x in c for v in x['eval']['views'] if v['flags_float']}
+        every = {v['view'] for v in c[0]['eval']['views']}
+        trusted = sorted(every - flagged)
+        if not flagged or not trusted: fail('eval: want both trusted and flagged views, flagged %s' % flagged)
         for x in c:
-            e = x['eval']
-            if abs(x['score'] - (e['acc_delta_depth_float'] - e['collateral_depth'])) > 1e-12: fail('eval score %s' % x)
-            if e['views_evaluated'] < 1: fail('no view evaluated')
+            e, views = x['eval'], x['eval']['views']
+            if e['score_views'] != trusted: fail('eval: score views %s, trusted %s' % (e['score_views'], trusted))
+            acc = sum(v['acc_delta_depth_float'] for v in views if v['view'] in trusted) / len(trusted)
+            coll = sum(v['collateral_depth'] for v in views) / len(views)
+            if abs(x['score'] - (acc - coll)) > 1e-12: fail('eval score %s' % x)
+            if abs(coll - e['collateral_depth']) > 1e-12: fail('eval collateral %s' % x)
+            if e['views_evaluated'] != len(views) or e['views_evaluated'] < 1: fail('views evaluated')
     if os.path.exists(os.path.join(T, run, '.auto_eval')): fail('scratch folder left behind')
-print('auto ok: stability and eval criteria, chosen/runner-up consistent')
+print('auto ok: stability and eval criteria (flagged views excluded), chosen/runner-up consistent')
 PY
 set +e
 "$BIN" refine --scene "$T/s/scene.ply" --removed "$T/s/removed_gc.npy" --auto --auto-k 4.5 --out "$T/bad" >/dev/null 2>&1

@@ -171,6 +171,93 @@ TEST(Eval, PerfectRemovalScoresOneEmptyRemovalZero) {
     EXPECT_EQ(e.path().filename().string().find(".eval-tmp"), std::string::npos);
 }
 
+// Ball() without the wall behind the object: only a strip at x < −3 remains (the left quarter of
+// each view), so removing the object leaves its pixels with no depth at all.
+BallScene FloatingCone() {
+  const BallScene& b = Ball();
+  std::vector<Eigen::Index> keep;
+  for (std::size_t i = 0; i < b.labels.size(); ++i)
+    if (b.labels[i] == 1 || b.scene.means(Eigen::Index(i), 0) < -3.f) keep.push_back(Eigen::Index(i));
+  BallScene s;
+  s.scene = b.scene;
+  s.scene.means = b.scene.means(keep, Eigen::all);
+  s.scene.log_scales = b.scene.log_scales(keep, Eigen::all);
+  s.scene.rotations = b.scene.rotations(keep, Eigen::all);
+  s.scene.opacity_logits = b.scene.opacity_logits(keep);
+  s.scene.sh = b.scene.sh(keep, Eigen::all);
+  for (Eigen::Index i : keep) s.labels.push_back(b.labels[std::size_t(i)]);
+  s.cameras = b.cameras;
+  return s;
+}
+
+TEST(Eval, AnObjectWithNothingBehindItCountsAsDepthChange) {
+  const BallScene s = FloatingCone();
+  std::vector<bool> all(s.labels.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = s.labels[i] == 1;
+  ObjectSource object;
+  object.labels = s.labels;
+  object.object_id = 1;
+  const fs::path tmp = test::TempDir();
+  EvalOptions o = Options(tmp / "released");
+  o.write_images = false;
+  const EvalResult released = RunEval(s.scene, s.cameras, {Col("after", "all", all)}, object, o);
+  o.out_dir = (tmp / "both").string();
+  o.depth_holes = metrics::DepthHoles::kBoth;
+  const EvalResult both = RunEval(s.scene, s.cameras, {Col("after", "all", all)}, object, o);
+  ASSERT_EQ(released.evaluated, 3u);
+  for (std::size_t v = 0; v < 3; ++v) {
+    const ColumnViewMetrics &m = released.views[v].columns[0], &old = both.views[v].columns[0];
+    // Every object pixel lost its depth: float mode puts them at the top bin, all changed.
+    EXPECT_GT(m.holes_after_float, released.views[v].object_pixels);
+    EXPECT_EQ(m.depth_float.acc_delta_depth, 1.0) << v;
+    // 8-bit mode follows the released evaluator: |Δ| = the depth byte before, and near = small in
+    // our 8-bit depth (METRICS.md §6: rim at z = 4 → byte 1, apex at z = 7 → 128), so only the far
+    // part of the cone reads as changed (measured 0.15-0.16); the old rule sees nothing.
+    EXPECT_GT(m.depth8.acc_delta_depth, 0.1) << v;
+    EXPECT_LT(m.depth8.acc_delta_depth, 0.5) << v;
+    EXPECT_EQ(old.depth8.acc_delta_depth, 0.0) << v;
+    EXPECT_EQ(old.depth_float.acc_delta_depth, 0.0) << v;
+    EXPECT_TRUE(old.constant8) << v;
+  }
+  EXPECT_EQ(released.report["params"]["depth_holes"], "before");
+  EXPECT_EQ(both.report["params"]["depth_holes"], "both");
+  EXPECT_EQ(released.report["metrics"]["columns"][0]["depth_float"]["depth_holes"], "before");
+  EXPECT_GT(released.report["metrics"]["columns"][0]["depth_float"]["hole_pixels"]["after_only"].get<int>(), 6000);
+}
+
+TEST(Eval, TrustFlagsReachTheReportCsvAndTableFootnotes) {
+  // A 1-in-2 removal of the cone at 256×192 is fine; with trust.min_object_pixels above the
+  // object's size every view is flagged small_object.
+  const fs::path out = test::TempDir() / "flags";
+  EvalOptions o = Options(out);
+  o.write_images = false;
+  o.trust.min_object_pixels = 1000000;
+  const EvalResult r = RunEval(Ball().scene, Ball().cameras, {Col("after", "all", Removal(1.0))}, FromLabels(), o);
+  const auto& trust = r.report["metrics"]["columns"][0]["depth"]["trust"];
+  EXPECT_EQ(trust["flagged_views"], 3);
+  EXPECT_EQ(trust["flag_counts"]["small_object"], 3);
+  EXPECT_EQ(trust["flagged"][0]["view"], "v0");
+  EXPECT_TRUE(trust["mean_acc_delta_depth_trusted"].is_null());
+  EXPECT_EQ(r.report["params"]["depth_trust"]["min_object_pixels"], 1000000);
+  std::ifstream csv(out / "metrics.csv");
+  std::string header, row;
+  std::getline(csv, header);
+  std::getline(csv, row);
+  EXPECT_NE(header.find("after_depth_flags,after_depth_float_flags"), std::string::npos) << header;
+  EXPECT_NE(row.find(",small_object,small_object"), std::string::npos) << row;
+  std::ifstream md(out / "table.md");
+  const std::string table((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(table.find("**1.00**<sup>1</sup>"), std::string::npos) << table;
+  EXPECT_NE(table.find("<sup>1</sup> all: acc_Δdepth cannot be trusted in 3 of 3 views (small\\_object: all)"),
+            std::string::npos)
+      << table;
+  // Default options: the clean removal of a large object is trusted, no footnote.
+  o.trust = {};
+  const EvalResult clean = RunEval(Ball().scene, Ball().cameras, {Col("after", "all", Removal(1.0))}, FromLabels(), o);
+  EXPECT_EQ(clean.report["metrics"]["columns"][0]["depth"]["trust"]["flagged_views"], 0);
+  EXPECT_TRUE(TableFromResult("x", {Col("after", "all", Removal(1.0))}, clean).notes.empty());
+}
+
 TEST(Eval, SegmentationsDriveIouDropAndSimSam) {
   const fs::path tmp = test::TempDir();
   const std::vector<EvalColumn> first = {Col("after", "all", Removal(1.0))};
@@ -262,6 +349,24 @@ TEST(EvalTable, BestBoldSecondUnderlined) {
       << tex;
   EXPECT_NE(tex.find("fgs\\_cp"), std::string::npos);
   EXPECT_NE(tex.find("\\begin{tabular}{lccc|ccc|ccc}"), std::string::npos);
+  // A footnote on an acc_Δdepth cell: marked in both formats, text escaped per format, long view
+  // lists cut.
+  DepthTrustNote note;
+  note.method = "fgs_cp";
+  note.flagged = 8;
+  note.views = 10;
+  note.views_by_flag = {{"small_object", {"a", "b", "c", "d", "e", "f", "g", "h"}}};
+  note.trusted_mean = 0.456;
+  t.notes = {note};
+  t.rows[0].acc_delta_depth_note = {0, 0, 1};
+  const std::string md2 = TableMarkdown(t), tex2 = TableLatex(t);
+  EXPECT_NE(md2.find("| **0.90**<sup>1</sup> |"), std::string::npos) << md2;
+  EXPECT_NE(md2.find("<sup>1</sup> fgs\\_cp: acc_Δdepth cannot be trusted in 8 of 10 views (small\\_object: a, b, c, "
+                     "d, e, f and 2 more); mean over the 2 other views 0.46."),
+            std::string::npos)
+      << md2;
+  EXPECT_NE(tex2.find("\\textbf{0.90}$^{1}$"), std::string::npos) << tex2;
+  EXPECT_NE(tex2.find("$^{1}$ fgs\\_cp: acc$_{\\Delta\\text{depth}}$ cannot be trusted"), std::string::npos) << tex2;
 }
 
 TEST(EvalInputs, NamesAndTargets) {

@@ -164,6 +164,73 @@ TEST(DirectoryMetrics, SixteenBitAndEightBitMasksAgree) {
   EXPECT_EQ(r8.skipped.size(), 3u);
 }
 
+TEST(DirectoryMetrics, AbsentDetectorFoldersScoreEveryImage) {
+  // Object masks but no gsam2/ at all: every image is scored with empty detections (the released
+  // evaluator), one warning, semantic.json written. a: 12-pixel object → IoU 0 both sides,
+  // acc_before 0, acc_after 1 (no object pixel detected after); e: empty object → all 0.
+  const fs::path tmp = test::TempDir(), d = tmp / "nodet";
+  Write(d / "masks/a.png", Rect(2, 1, 6, 4));
+  Write(d / "masks/e.png", Rect(0, 0, 0, 0));
+  DirectoryMetricsOptions o;
+  o.dir = d;
+  const DirectoryMetricsResult r = EvaluateDirectory(o);
+  ASSERT_TRUE(r.ran_semantic);
+  ASSERT_EQ(r.semantic.size(), 2u);
+  for (const auto& rec : r.semantic) {
+    EXPECT_EQ(rec.iou_before, 0.0);
+    EXPECT_EQ(rec.iou_after, 0.0);
+    EXPECT_EQ(rec.iou_drop, 0.0);
+    EXPECT_TRUE(rec.missing_before && rec.missing_after);
+  }
+  EXPECT_EQ(r.semantic[0].acc_after, 1.0);
+  EXPECT_EQ(r.semantic[0].acc_diff, 1.0);
+  EXPECT_EQ(r.semantic[1].acc_after, 0.0);
+  EXPECT_EQ(r.semantic_summary.acc_seg[1].value, 1.0);  // IoU_post 0 < 0.5 for both
+  std::size_t warnings = 0;
+  for (const auto& w : r.warnings) warnings += w.find("no detector mask folder") != std::string::npos;
+  EXPECT_EQ(warnings, 1u);
+  EXPECT_EQ(r.counts["semantic"]["absent_detector_folders"].size(), 2u);
+  const fs::path out = tmp / "nodet_out";
+  WriteDirectoryMetrics(r, out);
+  ASSERT_TRUE(fs::exists(out / "semantic.json"));
+  std::ifstream in(out / "semantic.json");
+  EXPECT_EQ(nlohmann::json::parse(in).size(), 2u);
+
+  // Only the after folder absent: the before detections count, the warning names that folder.
+  Write(d / "gsam2/before/mask/a.png", Rect(2, 1, 6, 4));
+  const DirectoryMetricsResult half = EvaluateDirectory(o);
+  ASSERT_EQ(half.semantic.size(), 2u);
+  EXPECT_EQ(half.semantic[0].iou_before, 1.0);
+  EXPECT_EQ(half.semantic[0].iou_drop, 1.0);
+  EXPECT_EQ(half.counts["semantic"]["absent_detector_folders"], nlohmann::json::array({(d / "gsam2/after/mask").string()}));
+}
+
+TEST(DirectoryMetrics, DepthHolesRuleAndTrustInTheOutputs) {
+  // The object (4 px) has depth 40 before and none after: the released rule counts it as changed,
+  // "both" ignores it. The record names the holes and the trust flags (4 px: small_object).
+  const fs::path d = test::TempDir() / "holes";
+  Write(d / "masks/a.png", Rect(2, 1, 4, 3));
+  Write(d / "depth/before/a.png", Rect(2, 1, 4, 3, 40, 100));
+  Write(d / "depth/after/a.png", Rect(2, 1, 4, 3, 0, 100));
+  DirectoryMetricsOptions o;
+  o.dir = d;
+  const DirectoryMetricsResult released = EvaluateDirectory(o);
+  ASSERT_EQ(released.depth.size(), 1u);
+  EXPECT_EQ(released.depth[0].score.acc_delta_depth, 1.0);
+  EXPECT_EQ(released.depth[0].holes_after, 4u);
+  o.depth_holes = DepthHoles::kBoth;
+  const DirectoryMetricsResult both = EvaluateDirectory(o);
+  EXPECT_EQ(both.depth[0].score.acc_delta_depth, 0.0);
+  const auto summary = SummaryJson(released), record = DepthJson(released.depth)[0];
+  EXPECT_EQ(summary["depth"]["depth_holes"], "before");
+  EXPECT_EQ(SummaryJson(both)["depth"]["depth_holes"], "both");
+  EXPECT_EQ(o.ToJson()["depth_holes"], "both");
+  EXPECT_EQ(record["hole_pixels"]["after_only"], 4);
+  EXPECT_EQ(record["trust"]["flags"], nlohmann::json::array({"small_object"}));
+  EXPECT_EQ(summary["depth"]["trust"]["flagged_images"], 1);
+  EXPECT_TRUE(summary["depth"]["trust"]["mean_acc_delta_depth_trusted"].is_null());
+}
+
 TEST(DirectoryMetrics, BadInputsNameTheFile) {
   DirectoryMetricsOptions o;
   o.dir = test::TempDir() / "does_not_exist";

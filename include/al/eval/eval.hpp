@@ -48,6 +48,10 @@ struct EvalOptions {
   RenderOptions render;                // background, SH degree, threads
   metrics::GhtOptions ght;             // published GHT parameters by default
   metrics::FloatDepthOptions float_depth;  // float mode (METRICS.md §5); alpha_hit also used for 8-bit depth
+  // Which missing depths zero |Δ|, in both modes (float_depth.holes is overridden by it). kBefore =
+  // the released evaluator: a pixel hit before and empty after counts as a depth change.
+  metrics::DepthHoles depth_holes = metrics::DepthHoles::kBefore;
+  metrics::DepthTrustOptions trust;    // per-view trust flags of acc_Δdepth (both modes)
   metrics::SemanticOptions semantic;
   metrics::SimSamOptions sim_sam;
   std::string seg_before_dir, sam_before_dir;  // segmentations of the "before" renders
@@ -63,6 +67,9 @@ struct ColumnViewMetrics {
   metrics::DepthScore depth8, depth_float;
   double threshold8 = 0, threshold_float = 0;
   bool constant8 = false;
+  metrics::DepthTrust trust8, trust_float;  // when acc_Δdepth of this view cannot be trusted
+  std::size_t holes_before8 = 0, holes_before_float = 0;  // pixels without depth before
+  std::size_t holes_after8 = 0, holes_after_float = 0;    // pixels with depth before and none after
   std::optional<double> collateral_psnr;  // empty when identical outside the object
   bool identical = false;
   std::optional<metrics::SemanticRecord> semantic;
@@ -118,10 +125,19 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
 struct TableRow {
   std::string name;
   std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
+  std::vector<int> acc_delta_depth_note;  // per method: footnote number (1-based into Table::notes) or 0
+};
+// Footnote of an acc_Δdepth cell: the views whose value cannot be trusted (metrics::DepthTrust).
+struct DepthTrustNote {
+  std::string method;
+  std::size_t flagged = 0, views = 0;
+  std::vector<std::pair<std::string, std::vector<std::string>>> views_by_flag;  // flag → views
+  std::optional<double> trusted_mean;  // mean over the views without a flag (none: all flagged)
 };
 struct Table {
   std::vector<std::string> methods;
   std::vector<TableRow> rows;
+  std::vector<DepthTrustNote> notes;
 };
 Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result);
 // Ranks of the values of one group: 1 = best (ties share it), 2 = second best, 0 otherwise/missing.

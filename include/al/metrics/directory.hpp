@@ -28,7 +28,10 @@ struct DirectoryMetricsOptions {
   SemanticOptions semantic;
   SimSamOptions sim_sam;
   GhtOptions ght;
+  DepthHoles depth_holes = DepthHoles::kBefore;  // released behaviour (METRICS.md §4 step 1)
+  DepthTrustOptions trust;
   std::string Check() const;  // empty when valid, else the problem
+  nlohmann::json ToJson() const;  // every effective option (report.json "params")
 };
 
 struct SimSamRecord {
@@ -63,10 +66,12 @@ struct DirectoryMetricsResult {
   nlohmann::json counts = nlohmann::json::object();  // skipped/missing files per metric
   std::vector<std::string> warnings;
   bool ran_semantic = false, ran_depth = false, ran_sam = false, ran_collateral = false;
+  DepthHoles depth_holes = DepthHoles::kBefore;  // the rule the depth records were computed with
 };
 
 // Throws al::Error "<file>: <problem>" on unreadable inputs other than object masks (an unreadable
-// object mask skips the image for the semantic metrics and is counted, METRICS.md §2).
+// object mask skips the image for the semantic metrics and is counted, METRICS.md §2). With object
+// masks present, absent detector folders score every image with empty detections (warned once).
 DirectoryMetricsResult EvaluateDirectory(const DirectoryMetricsOptions& options);
 
 // Released per-image JSON (field names of METRICS.md): semantic.json list, depth.json list,

@@ -3,7 +3,9 @@
 // an unsupervised criterion:
 //  - "eval" (cameras and the object given): the evaluator's acc_Δdepth (float mode: how much of the
 //    object's pixels lose their depth) minus its collateral damage (fraction of non-object pixels
-//    whose depth changed), both means over the evaluated views; higher is better.
+//    whose depth changed); acc over the views no candidate's trust flags mark (TrustedViewScores,
+//    docs/metrics.md), collateral over all evaluated views; higher is better. Every view flagged:
+//    "stability" decides instead.
 //  - "stability" (otherwise): how little the decision moves when one parameter moves one grid
 //    step: the mean Jaccard similarity between the point's changed set (added ∪ restored) and
 //    those of its grid neighbours. A setting on a plateau is one where the cut follows a real

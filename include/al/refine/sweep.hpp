@@ -108,7 +108,16 @@ PointEvalSetup MakePointEvalSetup(const std::string& cameras, const std::string&
 // Renders before / after `removed` (no images written) and returns the means over the evaluated
 // views: {acc_delta_depth (8-bit, published), acc_delta_depth_float, collateral_depth (fraction of
 // non-object pixels whose depth changed), collateral_psnr, views_evaluated, views_skipped}.
+// Also: views_flagged_float and views[] = {view, acc_delta_depth_float, collateral_depth,
+// flags_float} (the float-mode trust flags of docs/metrics.md, per evaluated view).
 nlohmann::json EvaluatePoint(const Scene& scene, const PointEvalSetup& setup, const std::vector<bool>& removed);
+
+// The "eval" criterion of `refine --auto` on views no candidate may game: acc_delta_depth_float
+// averaged over the views that no evaluation flags (the same views for every candidate, so a
+// candidate cannot win by getting a bad view flagged), minus collateral_depth over all evaluated
+// views (damage counts everywhere). Writes score_views and acc_delta_depth_float_trusted into each
+// evaluation. nullopt when every view is flagged somewhere: the criterion cannot be used.
+std::optional<std::vector<double>> TrustedViewScores(const std::vector<nlohmann::json*>& evals);
 
 struct SweepProgress {
   std::size_t position = 0, count = 0;  // 1-based position among this run's points
