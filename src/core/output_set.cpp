@@ -189,7 +189,8 @@ nlohmann::json OutputSet::Commit(nlohmann::json report) {
   const auto foreign = ForeignCollisions(staged, out_, own);
   if (!foreign.empty() && !options_.force) throw Error(ForeignMessage(options_.flag, out_, foreign));
   std::vector<std::string> kept_foreign, old_owned;
-  for (const auto& n : Entries(out_)) {
+  const std::vector<std::string> present = Entries(out_);
+  for (const auto& n : present) {
     if (Contains(staged, n) || own.journals.count(n)) continue;
     (Owned(own, out_, n) ? old_owned : kept_foreign).push_back(n);
   }
@@ -197,7 +198,7 @@ nlohmann::json OutputSet::Commit(nlohmann::json report) {
   if (!fs::exists(out_)) {
     fs::rename(staging_, out_, ec);
     if (ec) throw FileError(out_.string(), "cannot move the output set into place: " + ec.message());
-  } else if (!kept_foreign.empty() || InsideCwd(out_) || !TryExchange(staging_, out_, options_.journals, own)) {
+  } else if (!kept_foreign.empty() || InsideCwd(out_) || !TryExchange(staging_, out_, options_.journals, present)) {
     // Foreign files stay where they are: entries move one by one from a committed journal folder.
     std::string removals;
     for (const auto& n : old_owned) removals += n + "\n";

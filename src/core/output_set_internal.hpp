@@ -49,8 +49,10 @@ bool ProcessAlive(pid_t pid);
 // Finishes a per-entry commit (idempotent, so a killed commit is finished by the next run).
 void RollForward(const fs::path& commit_dir, const fs::path& out);
 // Swaps staging and out atomically; false when the filesystem cannot (caller falls back).
+// `replaced`: the entries of out the commit decided to replace (the rest, if any appeared
+// meanwhile, is moved back).
 bool TryExchange(const fs::path& staging, const fs::path& out, const std::vector<std::string>& journals,
-                 const Ownership& old);
+                 const std::vector<std::string>& replaced);
 
 // Exclusive advisory lock on a folder for the lifetime of the object (commits and recovery).
 class DirLock {

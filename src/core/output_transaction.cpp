@@ -89,7 +89,7 @@ void RollForward(const fs::path& commit_dir, const fs::path& out) {
 }
 
 bool TryExchange(const fs::path& staging, const fs::path& out, const std::vector<std::string>& journals,
-                 const Ownership& old) {
+                 const std::vector<std::string>& replaced) {
   std::vector<fs::path> links;  // journals enter the new set as hard links: a kill never loses them
   bool linked = true;
   for (const auto& j : journals) {
@@ -103,11 +103,12 @@ bool TryExchange(const fs::path& staging, const fs::path& out, const std::vector
     for (const auto& l : links) ::unlink(l.c_str());
     return false;
   }
-  // `staging` now holds the previous set. Anything not listed there appeared during the commit:
-  // move it back rather than delete what al-refine did not write.
+  // `staging` now holds the previous set. Anything the commit did not decide to replace appeared
+  // during the commit: move it back rather than delete what al-refine did not write.
   bool kept_foreign = false;
   for (const auto& name : Entries(staging)) {
-    if (Owned(old, staging, name) || std::count(journals.begin(), journals.end(), name)) continue;
+    if (std::count(replaced.begin(), replaced.end(), name) || std::count(journals.begin(), journals.end(), name))
+      continue;
     std::error_code ec;
     if (!fs::exists(out / name)) fs::rename(staging / name, out / name, ec);
     kept_foreign |= fs::exists(staging / name);

@@ -108,6 +108,7 @@ TEST(OutputSet, ForeignFilesUnderPlannedNamesAreRefusedUnlessForced) {
   o.force = true;
   CommitSet(out, "1", o);
   EXPECT_EQ(Read(out / "a.txt"), "a1");
+  EXPECT_TRUE(Leftovers(out).empty());  // the replaced foreign file is gone, not parked beside
 }
 
 TEST(OutputSet, InputsInsideOutAreRefusedOnlyWhenTheRunWouldReplaceThem) {
