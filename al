@@ -6,9 +6,12 @@ here="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 build="${AL_BUILD_DIR:-$here/build}"
 jobs="$(nproc 2>/dev/null || echo 2)"
 
+# Extra CMake flags: `./al test` builds the Python module too, for the interpreter Debian's
+# python3-* packages belong to (a pyenv or venv python3 earlier in PATH may lack numpy).
+cmake_flags=()
 build_all() {
   "$here/scripts/setup"
-  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake -S "$here" -B "$build" -DCMAKE_BUILD_TYPE=Release "${cmake_flags[@]}" >/dev/null
   cmake --build "$build" -j "$jobs"
 }
 
@@ -21,6 +24,7 @@ case "$cmd" in
     exec "$here/scripts/demo" "$build/al-refine" "$@"
     ;;
   test)
+    cmake_flags=(-DAL_PYTHON=ON -DPython3_EXECUTABLE=/usr/bin/python3)
     build_all
     cd "$build"
     exec ctest --output-on-failure -j "$jobs" "$@"
@@ -32,7 +36,7 @@ case "$cmd" in
   *)
     echo "usage: ./al demo | test | build | bench [--quick]" >&2
     echo "  demo   install deps, build, run the main job on a generated scene" >&2
-    echo "  test   install deps, build, run every test (ctest)" >&2
+    echo "  test   install deps, build (with the Python module), run every test (ctest, pytest, browser)" >&2
     echo "  bench  install deps, build, run every benchmark (bench/run; --quick < 5 min) -> docs/benchmarks.md" >&2
     exit 1
     ;;

@@ -4,6 +4,7 @@
 // iterations; counters: median_s (median of the 3), ratio_to_exact (median_s / exact's median_s,
 // exact runs first in the same process), rel_gap_to_exact, added, f1 (ground truth after the
 // decision). Usage: compare_bench [--benchmark_format=json].
+#include <memory>
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -36,11 +37,11 @@ const Fixture& Scene() {
     Fixture x;
     x.inputs.removal.removed = s.removed.at("fgs");
     for (bool b : x.inputs.removal.removed) x.inputs.removal.num_removed += b;
-    x.inputs.features = s.scene.features;
+    x.inputs.SetFeatures(s.scene.features);
     x.inputs.ground_truth = al::GroundTruth{
         s.labels, s.target_id,
         std::vector<float>(s.scene.opacity_logits.data(), s.scene.opacity_logits.data() + s.scene.size())};
-    x.inputs.scene = std::move(s.scene);
+    x.inputs.scene = std::make_shared<const al::Scene>(std::move(s.scene));
     x.graph = al::BuildGraphFor(x.inputs, x.go);
     return x;
   }();

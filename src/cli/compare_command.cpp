@@ -166,7 +166,7 @@ class CompareCommand : public Command {
     for (const auto& run : r.runs)
       report["runs"].push_back({{"id", run.id}, {"solver", run.solver}, {"options", run.options},
                                 {"reference_only", run.reference}});
-    report["counts"] = {{"num_gaussians", in.scene.size()}, {"removed_input", in.removal.num_removed},
+    report["counts"] = {{"num_gaussians", in.scene->size()}, {"removed_input", in.removal.num_removed},
                         {"candidates", graph.stats.nodes}, {"edges", graph.stats.edges},
                         {"solver_runs", r.rows.size()}, {"excluded_nonfinite", graph.stats.excluded_nonfinite}};
     report["removed_set"] = in.removal.stats;

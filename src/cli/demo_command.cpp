@@ -47,6 +47,9 @@ class DemoCommand : public Command {
     const fs::path out = set.dir(), final_out = set.out(), scene_dir = out / "scene";
     Timer total, t;
 
+    // The page to open first: everything below in one place (written by eval at the end).
+    const std::string page = (final_out / "eval" / "report.html").string();
+    std::printf("report: %s\n", page.c_str());
     // 1. The scene, its ground truth, object masks and the simulated removals.
     std::printf("demo: generating a %s scene with %zu Gaussians, %d views %dx%d ...\n", synth_.preset.c_str(),
                 synth_.num_gaussians, synth_.num_views, synth_.width, synth_.height);
@@ -130,6 +133,7 @@ class DemoCommand : public Command {
       if (r.result.exit_code != 0) std::printf("note: refine with %s: %s\n", r.solver.c_str(), r.result.message.c_str());
     std::printf("timings: synth %.1f s, refine bk %.1f s, cp %.1f s, eval %.1f s (render %.1f, metrics %.1f, io %.1f)\n",
                 synth_s, runs[0].seconds, runs[1].seconds, eval_s, er.seconds_render, er.seconds_metrics, er.seconds_io);
+    std::printf("open first: %s (summary, every view side by side, residual and added overlays)\n", page.c_str());
     const fs::path shown(out_);
     std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk)\n",
                 (shown / "eval" / "images").string().c_str());
@@ -156,7 +160,7 @@ class DemoCommand : public Command {
     report["outputs"] = {{"scene", (final_out / "scene").string()},
                          {"refine_bk", (final_out / "refine_bk").string()},
                          {"refine_cp", (final_out / "refine_cp").string()},
-                         {"eval", (final_out / "eval").string()}};
+                         {"eval", (final_out / "eval").string()}, {"report_html", page}};
     set.Commit(report);
     return 0;
   }

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <set>
 #include <fstream>
+#include <set>
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
@@ -144,7 +144,8 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
   if (ActiveSets().count(out_))
     throw Error(options_.flag + " " + out.string() + ": already an output folder of this run");
   CheckWritable(out_, parent_, options_.flag);
-  adopted_journals_ = Recover(parent_, name_, out_);
+  for (auto& name : Recover(parent_, name_, out_))  // a claim counts only for this run's own journals
+    if (Contains(options_.journals, name)) adopted_journals_.push_back(std::move(name));
   Ownership own = ReadOwnership(out_);
   own.journals.insert(adopted_journals_.begin(), adopted_journals_.end());
   CheckInputs(options_, out_, own);

@@ -11,6 +11,10 @@ std::uint8_t To8(float v) {
   return static_cast<std::uint8_t>(std::lround(c * 255.0f));
 }
 
+void Blend(std::uint8_t* px, const float colour[3], float mix) {
+  for (int c = 0; c < 3; ++c) px[c] = std::uint8_t(std::lround((1 - mix) * px[c] + mix * colour[c]));
+}
+
 }  // namespace
 
 Image8 RenderToRgb8(const RenderOutput& render) {
@@ -55,6 +59,25 @@ Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, s
   }
   if (painted) *painted = count;
   return img;
+}
+
+Image8 ResidualOverlay(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& changed) {
+  Image8 img = RenderToRgb8(render);
+  const metrics::Mask o = metrics::Resize(object, changed.width, changed.height, metrics::ResizeRule::kExact);
+  static constexpr float kRed[3] = {230.f, 20.f, 20.f};
+  if (changed.width != img.width || changed.height != img.height) return img;
+  for (std::size_t p = 0; p < o.bits.size(); ++p)
+    if (o.bits[p] && !changed.bits[p]) Blend(&img.pixels[p * 3], kRed, 0.6f);
+  return img;
+}
+
+void PaintRestored(Image8& image, const RenderOutput& render, const std::vector<bool>& restored) {
+  static constexpr float kCyan[3] = {0.f, 200.f, 230.f};
+  const std::size_t n = std::min(std::size_t(image.width) * std::size_t(image.height), render.front_id.size());
+  for (std::size_t p = 0; p < n; ++p) {
+    const std::int32_t id = render.front_id[p];
+    if (id >= 0 && std::size_t(id) < restored.size() && restored[std::size_t(id)]) Blend(&image.pixels[p * 3], kCyan, 0.65f);
+  }
 }
 
 }  // namespace al::eval

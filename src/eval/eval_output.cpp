@@ -15,7 +15,7 @@ OutputSetOptions EvalOutputSetOptions(const EvalOptions& o) {
   so.command = "eval";
   for (const auto& p : o.input_paths) so.inputs.push_back(p);
   for (const auto& p : {o.seg_before_dir, o.sam_before_dir}) so.inputs.push_back(p);
-  so.planned = {"report.json", "metrics.csv", "table.md", "table.tex"};
+  so.planned = {"report.json", "report.html", "metrics.csv", "table.md", "table.tex"};
   if (o.write_images) so.planned.push_back("images");
   if (o.export_renders) so.planned.push_back("renders");
   if (o.write_depth_pngs) {

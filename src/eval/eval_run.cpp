@@ -15,8 +15,10 @@
 #include "al/eval/images.hpp"
 #include "al/core/memory_limit.hpp"
 #include "al/eval/output.hpp"
-#include "al/render/render_views.hpp"
+#include "al/eval/records.hpp"
+#include "al/eval/report_html.hpp"
 #include "al/io/ply.hpp"
+#include "al/render/render_views.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
 #include "al/metrics/removal_scores.hpp"
@@ -150,11 +152,17 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     }
   }
   // Gaussians each refinement added to the removal method's set (column 0), for the pink overlay.
-  std::vector<std::vector<bool>> added(nc);
+  // Restored: in the method's set, returned to the scene by the refinement (cyan in the overlay).
+  std::vector<std::vector<bool>> added(nc), restored(nc);
   for (std::size_t c = 1; c < nc; ++c) {
     added[c].resize(n);
-    for (std::size_t i = 0; i < n; ++i) added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
+    restored[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      added[c][i] = columns[c].removed[i] && !columns[0].removed[i];
+      restored[c][i] = columns[0].removed[i] && !columns[c].removed[i];
+    }
   }
+  json view_images = json::array();  // report.html's pictures per evaluated view
   std::vector<bool> subset;
   if (object.masks_dir.empty()) {
     subset.resize(n);
@@ -265,16 +273,31 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     std::vector<std::pair<fs::path, Image8>> jobs;
     auto write = [&](const fs::path& path, Image8 img) { jobs.emplace_back(path, std::move(img)); };
     if (o.write_images) {
-      write(images / (stem + "_before.png"), RenderToRgb8(before));
+      json pictures = json::array();
+      auto picture = [&](const std::string& key, const std::string& label, const std::string& file, Image8 img) {
+        write(images / file, std::move(img));
+        pictures.push_back({{"key", key}, {"label", label}, {"src", "images/" + file}});
+      };
+      picture("before", "before", stem + "_before.png", RenderToRgb8(before));
+      for (std::size_t c = 0; c < nc; ++c)
+        picture(columns[c].name, columns[c].label, stem + "_" + columns[c].name + ".png", RenderToRgb8(after[c]));
       for (std::size_t c = 0; c < nc; ++c) {
         const std::string& col = columns[c].name;
-        write(images / (stem + "_" + col + ".png"), RenderToRgb8(after[c]));
-        write(images / (stem + (c == 0 ? std::string() : "_" + col) + "_depthdiff.png"),
-              DepthDiffImage(changed[c], object_mask));
-        if (c > 0)
-          write(images / (stem + (col == "refined" ? std::string() : "_" + col) + "_added.png"),
-                AddedOverlay(after[0], added[c]));
+        picture(col + "_residual", columns[c].label + ": residual", stem + "_" + col + "_residual.png",
+                ResidualOverlay(after[c], object_mask, changed[c]));
       }
+      for (std::size_t c = 1; c < nc; ++c) {
+        const std::string& col = columns[c].name;
+        Image8 overlay = AddedOverlay(after[0], added[c]);
+        PaintRestored(overlay, after[c], restored[c]);
+        picture(col + "_added", columns[c].label + ": added / restored",
+                stem + (col == "refined" ? std::string() : "_" + col) + "_added.png", std::move(overlay));
+      }
+      for (std::size_t c = 0; c < nc; ++c)
+        picture(columns[c].name + "_depthdiff", columns[c].label + ": depth change",
+                stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_depthdiff.png",
+                DepthDiffImage(changed[c], object_mask));
+      view_images.push_back({{"view", cam.name}, {"images", std::move(pictures)}});
     }
     if (o.export_renders) {
       write(out / "renders" / "before" / (stem + ".png"), RenderToRgb8(before));
@@ -368,7 +391,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   WriteFileAtomically(out / "metrics.csv", MetricsCsv(columns, r));
   WriteFileAtomically(out / "table.md", TableMarkdown(table));
   WriteFileAtomically(out / "table.tex", TableLatex(table));
-  r.outputs = {"report.json", "metrics.csv", "table.md", "table.tex"};
+  r.outputs = {"report.json", "report.html", "metrics.csv", "table.md", "table.tex"};
   if (o.write_images) r.outputs.push_back("images/");
   if (o.write_depth_pngs) {
     r.outputs.push_back("masks/");
@@ -385,6 +408,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   timings["metrics"] = r.seconds_metrics;
   timings["io"] = r.seconds_io;
   timings["eval_total"] = r.seconds_total;
+  WriteFileAtomically(out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), view_images));
   r.report = staging.Commit(std::move(report));
   return r;
 }

@@ -48,7 +48,7 @@ RowMatXf ColourFeatures(const Scene& scene) {
   return rgb;
 }
 
-GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
                              const std::vector<bool>& removed, const GraphOptions& options) {
   Timer total;
   const std::size_t N = scene.size();

@@ -28,6 +28,15 @@ nlohmann::json BaseStats(const std::string& kind, std::size_t rows) {
           {"unmatched", 0},        {"ambiguous", 0}};
 }
 
+// The polarity flag applies to every kind: a list of remaining rows is complemented.
+RemovalSet ApplyPolarity(RemovalSet r, const RemovalLoadOptions& options) {
+  if (options.removed_is == RemovedIs::kRemaining) r.removed.flip();
+  r.num_removed = static_cast<std::size_t>(std::count(r.removed.begin(), r.removed.end(), true));
+  r.stats["removed_is"] = options.removed_is == RemovedIs::kRemaining ? "remaining" : "removed";
+  r.stats["num_removed"] = r.num_removed;
+  return r;
+}
+
 // Marks indices as removed; `where(k)` describes input item k for error messages.
 template <typename Where>
 void ApplyIndices(const std::string& path, const std::vector<std::int64_t>& idx, std::size_t n,
@@ -43,8 +52,17 @@ void ApplyIndices(const std::string& path, const std::vector<std::int64_t>& idx,
 }
 
 RemovalSet LoadNpy(const std::string& path, const Scene& scene, const RemovalLoadOptions& opt) {
-  const NpyArray a = ReadNpy(path);
-  const std::size_t n = scene.size();
+  return RemovalSetFromArray(ReadNpy(path), path, scene.size(), opt);
+}
+
+RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
+  return RemovalSetFromIndexText(ReadInputFile(path), path, scene.size());
+}
+
+}  // namespace
+
+RemovalSet RemovalSetFromArray(const NpyArray& a, const std::string& path, std::size_t n,
+                               const RemovalLoadOptions& opt) {
   if (a.shape.size() != 1)
     throw FileError(path, "expected a 1-D array (mask of shape (N,) or indices of shape (M,)), got " +
                               std::to_string(a.shape.size()) + " dimensions");
@@ -85,14 +103,8 @@ RemovalSet LoadNpy(const std::string& path, const Scene& scene, const RemovalLoa
     for (std::size_t i = 0; i < n; ++i) r.removed[i] = a.At(i) == 0.0;  // GC polarity: exactly 0 = removed
     r.stats = BaseStats("gc_float", len);
   }
-  return r;
+  return ApplyPolarity(std::move(r), opt);
 }
-
-RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
-  return RemovalSetFromIndexText(ReadInputFile(path), path, scene.size());
-}
-
-}  // namespace
 
 RemovalSet RemovalSetFromIndexText(const std::string& text, const std::string& path, std::size_t n) {
   std::istringstream in(text);
@@ -180,7 +192,7 @@ RemovalSet LoadRemovalSet(const std::string& path, const Scene& scene, const Rem
   const std::string ext = Lower(std::filesystem::path(path).extension().string());
   RemovalSet r;
   if (ext == ".npy") {
-    r = LoadNpy(path, scene, options);
+    return LoadNpy(path, scene, options);  // polarity applied by RemovalSetFromArray
   } else if (ext == ".txt") {
     r = LoadTxt(path, scene);
   } else if (ext == ".ply") {
@@ -188,12 +200,7 @@ RemovalSet LoadRemovalSet(const std::string& path, const Scene& scene, const Rem
   } else {
     throw FileError(path, "unknown removed-set format '" + ext + "' (expected .npy, .txt or .ply)");
   }
-  // The polarity flag applies to every kind: a list of remaining rows is complemented.
-  if (options.removed_is == RemovedIs::kRemaining) r.removed.flip();
-  r.num_removed = static_cast<std::size_t>(std::count(r.removed.begin(), r.removed.end(), true));
-  r.stats["removed_is"] = options.removed_is == RemovedIs::kRemaining ? "remaining" : "removed";
-  r.stats["num_removed"] = r.num_removed;
-  return r;
+  return ApplyPolarity(std::move(r), options);
 }
 
 std::vector<std::int64_t> MaskToIndices(const std::vector<bool>& mask) {

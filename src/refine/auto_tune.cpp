@@ -113,7 +113,7 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
         if (inputs.ground_truth)
           c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
                                            inputs.ground_truth->opacity_logits).f1;
-        if (o.eval) c.eval = EvaluatePoint(inputs.scene, *o.eval, s.refined);
+        if (o.eval) c.eval = EvaluatePoint(*inputs.scene, *o.eval, s.refined);
         r.candidates.push_back(std::move(c));
       }
     }

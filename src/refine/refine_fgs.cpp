@@ -20,7 +20,7 @@ RowMatXf ReadMatrixNpy(const std::string& path) {
   return m;
 }
 
-RowMatXf ApplyDecoder(const RowMatXf& features, const std::string& weight_npy, const std::string& bias_npy) {
+RowMatXf ApplyDecoder(Eigen::Ref<const RowMatXf> features, const std::string& weight_npy, const std::string& bias_npy) {
   const NpyArray w = ReadNpy(weight_npy);
   if (!w.is_float()) throw Error(weight_npy + ": decoder weight must be float", ExitCode::kBadInput);
   const bool conv = w.shape.size() == 4 && w.shape[2] == 1 && w.shape[3] == 1;
@@ -42,7 +42,7 @@ RowMatXf ApplyDecoder(const RowMatXf& features, const std::string& weight_npy, c
   return out;
 }
 
-FgsMaskResult FgsDerivedMask(const RowMatXf& features, const RowMatXf& prompts, const FgsMaskOptions& options) {
+FgsMaskResult FgsDerivedMask(Eigen::Ref<const RowMatXf> features, const RowMatXf& prompts, const FgsMaskOptions& options) {
   const auto T = prompts.rows();
   if (T < 1) throw Error("--prompt-embeddings: no prompts", ExitCode::kBadInput);
   if (prompts.cols() != features.cols())

@@ -1,9 +1,12 @@
 // RunRefine: the whole `refine` flow as a library call (see al/refine/refine.hpp): the stages of
-// al/refine/stages.hpp in a row, then the outputs.
+// al/refine/stages.hpp in a row, then the outputs. Files and memory differ only in how the inputs
+// are loaded; from there on both run RefineLoaded, so the CLI and the Python module agree.
 #include <algorithm>
 #include <filesystem>
+#include <optional>
 
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/core/text.hpp"
 #include "al/core/timer.hpp"
@@ -14,19 +17,26 @@
 #include "al/refine/stages.hpp"
 
 namespace al {
+namespace {
 
 namespace fs = std::filesystem;
 
-OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
-  OutputSetOptions so;
-  so.command = "refine";
-  so.inputs = {o.scene, o.removed, o.features, o.labels, o.prompt_embeddings};
-  for (const auto& part : SplitTrimmed(o.decoder, ',')) so.inputs.push_back(part);
-  so.planned = {"refined.npy", "refined.txt", "added.txt", "remaining.ply", "report.json"};
-  return so;
-}
+struct RefineCounts {
+  std::vector<bool> added;
+  std::size_t added_count = 0, restored = 0, refined = 0;
+};
 
-namespace {
+RefineCounts CountChanges(const std::vector<bool>& removed, const std::vector<bool>& refined) {
+  RefineCounts c;
+  c.added.assign(refined.size(), false);
+  for (std::size_t i = 0; i < refined.size(); ++i) {
+    c.added[i] = refined[i] && !removed[i];
+    c.added_count += c.added[i];
+    c.restored += removed[i] && !refined[i];
+    c.refined += refined[i];
+  }
+  return c;
+}
 
 OutputSetOptions ExportSetOptions(const RefineOptions& o) {
   OutputSetOptions so = RefineOutputSetOptions(o);
@@ -37,27 +47,43 @@ OutputSetOptions ExportSetOptions(const RefineOptions& o) {
   return so;
 }
 
-}  // namespace
-
-void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, const std::vector<double>* p) {
-  OutputSet set(o.export_problem_dir, ExportSetOptions(o));
-  ExportProblem(problem, p, set.dir().string(), o.graph.lambda);
-  nlohmann::json report = NewReport("export-problem");
-  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", o.graph.lambda}};
-  report["counts"] = {{"nodes", problem.num_nodes()}, {"edges", problem.num_edges()}};
-  set.Commit(report);
+// refined.npy, refined.txt, added.txt, remaining.ply into the staging folder of the run's output
+// set, and the optional problem export (its own set).
+void WriteRefineOutputs(const RefineOptions& o, const RefineInputs& in, const GraphResult& graph,
+                        const SolveOutcome& solved, const RefineCounts& counts, const fs::path& out) {
+  WriteNpyBool((out / "refined.npy").string(), solved.refined);
+  WriteIndexText((out / "refined.txt").string(), MaskToIndices(solved.refined), "refined removed set");
+  WriteIndexText((out / "added.txt").string(), MaskToIndices(counts.added), "Gaussians added by refinement");
+  std::vector<bool> keep(solved.refined.size());
+  for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !solved.refined[i];
+  WritePly((out / "remaining.ply").string(), *in.scene, keep);
+  if (!o.export_problem_dir.empty()) ExportProblemSet(o, graph.problem, solved.empty_graph ? nullptr : &solved.p);
 }
 
-RefineResult RunRefine(const RefineOptions& o) {
-  OutputSet set(o.out_dir, RefineOutputSetOptions(o));
-  RefineResult result = RefineIntoSet(o, set);
-  result.report = set.Commit(result.report);
-  return result;
+nlohmann::json RefineParams(const RefineOptions& o, const RefineInputs& in, const std::string& solver_name) {
+  const GraphOptions& go = o.graph;
+  return {{"scene", o.scene}, {"removed", o.removed},
+          {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+          {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
+          {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
+          {"decoder", o.decoder},
+          {"k", go.k}, {"delta", go.delta},
+          {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
+          {"lambda", go.lambda}, {"spatial", go.spatial}, {"hops", go.hops},
+          {"radius_scale", go.radius_scale}, {"knn_checks", go.knn_checks},
+          {"kl_smoothing", go.kl_smoothing}, {"solver", solver_name}, {"solver_options", o.solver_options},
+          {"threshold", o.decision.rule.ToString()}, {"restore", o.decision.restore},
+          {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
+          {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
+          {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
+          {"export_problem", o.export_problem_dir}};
 }
 
-RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
-  Timer total;
-  nlohmann::json report = NewReport("refine");
+// Graph → solve → decide → ground-truth scores → outputs (into set, when given) → report (the
+// caller commits it with the set).
+RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver& solver,
+                          const std::string& solver_name, nlohmann::json report, const Timer& total,
+                          OutputSet* set) {
   nlohmann::json& timings = report["timings_s"];
   nlohmann::json& warnings = report["warnings"];
   Timer t;
@@ -67,21 +93,11 @@ RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
     if (o.on_stage) o.on_stage(name, s);
     t.Reset();
   };
-  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
-  if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, ExportSetOptions(o));
-  const std::string solver_name = ResolveSolverName(o.solver);
-  auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
-
-  RefineInputs in = LoadRefineInputs(o, report);
-  t.Reset();
-  const std::size_t N = in.scene.size();
-  const GraphOptions& go = o.graph;
-  GraphResult graph = BuildGraphFor(in, go);
-  const GraphStats& gs = graph.stats;
+  const GraphResult graph = BuildGraphFor(in, o.graph);
   for (const auto& w : graph.warnings) warnings.push_back(w);
   stage_done("graph");
 
-  SolveOutcome solved = SolveAndDecide(in, graph, go, *solver, o.decision);
+  const SolveOutcome solved = SolveAndDecide(in, graph, o.graph, solver, o.decision);
   for (const auto& w : solved.warnings) warnings.push_back(w);
   if (!solved.empty_graph) {
     // The solver times itself; the rest of this stage is the decision rule.
@@ -106,45 +122,22 @@ RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
     report["gt"] = ScoreAgainstGroundTruth(*in.ground_truth, in.removal.removed, result.refined);
     stage_done("ground_truth");
   }
-
-  // Outputs: staged, published by the caller's commit.
-  const fs::path out = set.dir();
-  WriteNpyBool((out / "refined.npy").string(), result.refined);
-  WriteIndexText((out / "refined.txt").string(), MaskToIndices(result.refined), "refined removed set");
-  std::vector<bool> added(N, false), keep(N);
-  std::size_t n_added = 0, n_restored = 0, n_refined = 0;
-  for (std::size_t i = 0; i < N; ++i) {
-    added[i] = result.refined[i] && !in.removal.removed[i];
-    n_added += added[i];
-    n_restored += in.removal.removed[i] && !result.refined[i];
-    n_refined += result.refined[i];
-    keep[i] = !result.refined[i];
+  const RefineCounts counts = CountChanges(in.removal.removed, result.refined);
+  for (std::size_t i = 0; i < result.refined.size(); ++i) {
+    if (counts.added[i]) result.added.push_back(std::int64_t(i));
+    else if (in.removal.removed[i] && !result.refined[i]) result.restored.push_back(std::int64_t(i));
   }
-  WriteIndexText((out / "added.txt").string(), MaskToIndices(added), "Gaussians added by refinement");
-  WritePly((out / "remaining.ply").string(), in.scene, keep);
-  if (!o.export_problem_dir.empty()) ExportProblemSet(o, graph.problem, solved.empty_graph ? nullptr : &solved.p);
-  stage_done("write");
+  if (set) {
+    WriteRefineOutputs(o, in, graph, solved, counts, set->dir());
+    stage_done("write");
+  }
 
+  const GraphStats& gs = graph.stats;
   report["status"] = result.status;
-  report["params"] = {
-      {"scene", o.scene}, {"removed", o.removed},
-      {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-      {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
-      {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
-      {"decoder", o.decoder},
-      {"k", go.k}, {"delta", go.delta},
-      {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
-      {"lambda", go.lambda}, {"spatial", go.spatial}, {"hops", go.hops},
-      {"radius_scale", go.radius_scale}, {"knn_checks", go.knn_checks},
-      {"kl_smoothing", go.kl_smoothing}, {"solver", solver_name}, {"solver_options", o.solver_options},
-      {"threshold", o.decision.rule.ToString()}, {"restore", o.decision.restore},
-      {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},
-      {"prompt_embeddings", o.prompt_embeddings}, {"positive", o.positives},
-      {"fgs_threshold", o.fgs_threshold}, {"out", o.out_dir},
-      {"export_problem", o.export_problem_dir}};
-  report["counts"] = {{"num_gaussians", N}, {"removed_input", in.removal.num_removed},
-                      {"candidates", gs.nodes}, {"edges", gs.edges}, {"refined", n_refined},
-                      {"added", n_added}, {"restored", n_restored},
+  report["params"] = RefineParams(o, in, solver_name);
+  report["counts"] = {{"num_gaussians", in.scene->size()}, {"removed_input", in.removal.num_removed},
+                      {"candidates", gs.nodes}, {"edges", gs.edges}, {"refined", counts.refined},
+                      {"added", counts.added_count}, {"restored", counts.restored},
                       {"excluded_nonfinite", gs.excluded_nonfinite}};
   report["removed_set"] = in.removal.stats;
   if (!in.fgs_mask.is_null()) report["fgs_mask"] = in.fgs_mask;
@@ -153,7 +146,72 @@ RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
   report["decision"] = solved.decision;
   report["message"] = result.message;
   timings["total"] = total.Seconds();
-  result.report = report;
+  result.report = std::move(report);
+  return result;
+}
+
+}  // namespace
+
+nlohmann::json RefineResult::Summary() const {
+  nlohmann::json s = {{"status", status}, {"message", message}};
+  const nlohmann::json counts = report.value("counts", nlohmann::json::object());
+  for (const auto& [key, value] : counts.items()) s[key] = value;
+  if (report.contains("gt"))
+    for (const char* when : {"before", "after"})
+      for (const char* metric : {"f1", "iou", "precision", "recall"})
+        s[std::string("gt_") + metric + "_" + when] = report["gt"][when][metric];
+  s["seconds"] = report.value("timings_s", nlohmann::json::object()).value("total", 0.0);
+  return s;
+}
+
+OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
+  OutputSetOptions so("refine", {o.scene, o.removed, o.features, o.labels, o.prompt_embeddings},
+                      {"refined.npy", "refined.txt", "added.txt", "remaining.ply", "report.json"});
+  for (const auto& part : SplitTrimmed(o.decoder, ',')) so.inputs.push_back(part);
+  return so;
+}
+
+void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, const std::vector<double>* p) {
+  OutputSet set(o.export_problem_dir, ExportSetOptions(o));
+  ExportProblem(problem, p, set.dir().string(), o.graph.lambda);
+  nlohmann::json report = NewReport("export-problem");
+  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", o.graph.lambda}};
+  report["counts"] = {{"nodes", problem.num_nodes()}, {"edges", problem.num_edges()}};
+  set.Commit(report);
+}
+
+RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
+  Timer total;
+  nlohmann::json report = NewReport("refine");
+  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, ExportSetOptions(o));
+  const std::string solver_name = ResolveSolverName(o.solver);
+  auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
+  const RefineInputs in = LoadRefineInputs(o, report);
+  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total, &set);
+}
+
+RefineResult RunRefine(const RefineOptions& o) {
+  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  OutputSet set(o.out_dir, RefineOutputSetOptions(o));  // --out checked before anything is loaded
+  RefineResult result = RefineIntoSet(o, set);
+  result.report = set.Commit(result.report);
+  return result;
+}
+
+RefineResult RunRefine(const RefineData& data, const RefineOptions& options) {
+  Timer total;
+  nlohmann::json report = NewReport("refine");
+  RefineOptions o = options;
+  if (o.scene.empty()) o.scene = data.scene && !data.scene->source_path.empty() ? data.scene->source_path : data.name;
+  if (o.removed.empty() && data.removed.data != nullptr) o.removed = data.name;
+  const std::string solver_name = ResolveSolverName(o.solver);
+  auto solver = MakeSolver(solver_name, o.solver_options);
+  std::optional<OutputSet> set;
+  if (!o.out_dir.empty()) set.emplace(o.out_dir, RefineOutputSetOptions(o));
+  const RefineInputs in = InputsFromData(data, o, report);
+  RefineResult result = RefineLoaded(in, o, *solver, solver_name, std::move(report), total, set ? &*set : nullptr);
+  if (set) result.report = set->Commit(result.report);
   return result;
 }
 

@@ -58,15 +58,14 @@ int TargetFromLabels(const std::string& labels, const std::optional<int>& object
   }
 }
 
-// Fills inputs.features / feature_source / colour_fallback from the feature spec.
-void LoadFeatures(const RefineOptions& o, RefineInputs& in, nlohmann::json& report) {
-  nlohmann::json& warnings = report["warnings"];
+// Fills the features / feature_source / colour_fallback of inputs from the feature spec; `scene` is
+// the freshly read scene, whose feature columns move into the inputs.
+void LoadFeatures(const RefineOptions& o, Scene& scene, RefineInputs& in, nlohmann::json& report) {
   const std::string& feat = in.feature_spec;
-  const std::size_t N = in.scene.size();
   if (feat == "colour") {
     in.colour_fallback = true;
   } else if (EndsWith(feat, ".npy")) {
-    in.features = ReadMatrixNpy(feat);
+    in.SetFeatures(ReadMatrixNpy(feat));
     in.feature_source = feat;
     AddInputFile(report, "features", feat);
   } else if (EndsWith(feat, ".ply")) {
@@ -74,31 +73,73 @@ void LoadFeatures(const RefineOptions& o, RefineInputs& in, nlohmann::json& repo
     fo.require_scales = false;
     Scene fs_scene = ReadScene(feat, fo);
     if (fs_scene.features.cols() == 0) throw Error(feat + ": no feature columns found", ExitCode::kBadInput);
-    in.features = std::move(fs_scene.features);
+    in.SetFeatures(std::move(fs_scene.features));
     in.feature_source = feat + " (" + fs_scene.feature_prefix + "*)";
     AddInputFile(report, "features", feat);
-  } else if (in.scene.features.cols() > 0) {
-    in.features = std::move(in.scene.features);
-    in.scene.features.resize(0, 0);
-    in.feature_source = in.scene.feature_prefix + "*";
+  } else if (scene.features.cols() > 0) {
+    in.SetFeatures(std::move(scene.features));
+    scene.features.resize(0, 0);
+    in.feature_source = scene.feature_prefix + "*";
   } else {
     in.colour_fallback = true;
-    warnings.push_back("no feature columns found (features '" + feat + "'): using the colour fallback");
+    report["warnings"].push_back("no feature columns found (features '" + feat + "'): using the colour fallback");
   }
-  if (!in.colour_fallback && in.features.rows() != static_cast<Eigen::Index>(N))
-    throw Error(in.feature_source + ": " + std::to_string(in.features.rows()) + " feature rows for " +
+}
+
+// What the feature rows need after they were found, for files and memory alike: the row count,
+// the decoder, the colour fallback.
+void FinishFeatures(const RefineOptions& o, RefineInputs& in) {
+  const std::size_t N = in.scene->size();
+  if (!in.colour_fallback && in.features().rows() != static_cast<Eigen::Index>(N))
+    throw Error(in.feature_source + ": " + std::to_string(in.features().rows()) + " feature rows for " +
                 std::to_string(N) + " Gaussians", ExitCode::kBadInput);
   if (!o.decoder.empty()) {
     if (in.colour_fallback) throw Error("--decoder needs semantic features", ExitCode::kUsage);
     const auto comma = o.decoder.find(',');
     if (comma == std::string::npos) throw Error("--decoder: expected W.npy,b.npy", ExitCode::kUsage);
-    in.features = ApplyDecoder(in.features, o.decoder.substr(0, comma), o.decoder.substr(comma + 1));
+    in.SetFeatures(ApplyDecoder(in.features(), o.decoder.substr(0, comma), o.decoder.substr(comma + 1)));
     in.feature_source += " decoded by " + o.decoder;
   }
   if (in.colour_fallback) {
-    in.features = ColourFeatures(in.scene);
+    in.SetFeatures(ColourFeatures(*in.scene));
     in.feature_source = "colour (RGB = 0.5 + C0*f_dc, raw Euclidean distance)";
   }
+}
+
+// In-memory features: the caller's (N, D) float array (float32 borrowed, other float types
+// converted), else the scene's own columns, else the colour fallback.
+void FeaturesFromData(const RefineData& data, RefineInputs& in, nlohmann::json& report) {
+  const NpyArray& f = data.features;
+  if (f.data != nullptr) {
+    if (!f.is_float() || f.shape.size() != 2 || f.shape[1] <= 0)
+      throw Error(data.name + " features: expected a 2-D (N, D) float array, got dtype " + f.descr + " with " +
+                  std::to_string(f.shape.size()) + " dimensions", ExitCode::kBadInput);
+    if (f.descr == "f4") {
+      in.BorrowFeatures(reinterpret_cast<const float*>(f.data), f.shape[0], f.shape[1]);
+    } else {
+      const std::vector<float> v = f.ToFloat();
+      in.SetFeatures(Eigen::Map<const RowMatXf>(v.data(), f.shape[0], f.shape[1]));
+    }
+    in.feature_source = data.name + " features (" + f.descr + ")";
+  } else if (in.feature_spec != "colour" && in.scene->features.cols() > 0) {
+    const Scene& s = *in.scene;
+    in.BorrowFeatures(s.features.data(), s.features.rows(), s.features.cols());
+    in.feature_source = s.feature_prefix + "*";
+  } else {
+    in.colour_fallback = true;
+    if (in.feature_spec != "colour")
+      report["warnings"].push_back("no features given and none in the scene: using the colour fallback");
+  }
+}
+
+GroundTruth MakeGroundTruth(std::vector<std::int32_t> labels, int target, const Scene& scene) {
+  const std::size_t N = scene.size();
+  GroundTruth truth;
+  truth.labels = std::move(labels);
+  truth.target = target;
+  if (scene.opacity_logits.size() == static_cast<Eigen::Index>(N))
+    truth.opacity_logits.assign(scene.opacity_logits.data(), scene.opacity_logits.data() + N);
+  return truth;
 }
 
 GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann::json& report) {
@@ -108,14 +149,56 @@ GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann
     throw Error(o.labels + ": expected an integer array with " + std::to_string(N) + " entries",
                 ExitCode::kBadInput);
   AddInputFile(report, "labels", o.labels);
-  GroundTruth truth;
   const std::vector<std::int64_t> l64 = la.ToInt64();
-  truth.labels.assign(l64.begin(), l64.end());
-  truth.target = TargetFromLabels(o.labels, o.object_id);
-  if (scene.opacity_logits.size() == static_cast<Eigen::Index>(N))
-    truth.opacity_logits.assign(scene.opacity_logits.data(), scene.opacity_logits.data() + N);
-  return truth;
+  return MakeGroundTruth({l64.begin(), l64.end()}, TargetFromLabels(o.labels, o.object_id), scene);
 }
+
+nlohmann::json PresetJson(const Preset& preset) {
+  return {{"features", preset.features},
+          {"removed_is", preset.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+          {"gc_polarity", preset.gc_polarity}};
+}
+
+// The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).
+void DeriveFgsRemoval(const RefineOptions& o, RefineInputs& in, nlohmann::json& report) {
+  const RowMatXf prompts = ReadMatrixNpy(o.prompt_embeddings);
+  AddInputFile(report, "prompt_embeddings", o.prompt_embeddings);
+  if (in.colour_fallback) throw Error("--prompt-embeddings needs semantic features", ExitCode::kUsage);
+  FgsMaskOptions fo;
+  fo.positives = o.positives;
+  fo.threshold = o.fgs_threshold;
+  const FgsMaskResult m = FgsDerivedMask(in.features(), prompts, fo);
+  in.removal.removed = m.removed;
+  in.removal.num_removed = m.num_removed;
+  in.fgs_mask = {{"removed", m.num_removed}, {"by_argmax", m.by_argmax},
+                 {"by_threshold_only", m.by_threshold_only}, {"near_threshold", m.near_threshold},
+                 {"zero_norm", m.zero_norm}, {"threshold", o.fgs_threshold}, {"positives", o.positives}};
+  if (m.near_threshold > 0)
+    report["warnings"].push_back(std::to_string(m.near_threshold) +
+                                 " Gaussians lie within 1e-3 of the FGS threshold (upstream float16 may flip them)");
+}
+
+RemovalLoadOptions RemovalOptionsFor(const RefineOptions& o, const RefineInputs& in, const Preset& preset) {
+  RemovalLoadOptions lo;
+  lo.removed_is = in.removed_is;
+  lo.max_unmatched = o.max_unmatched;
+  lo.match_tolerance = o.match_tol;
+  lo.gc_polarity = preset.gc_polarity;
+  return lo;
+}
+
+// Calls the optional stage callback and records the stage's seconds under report.timings_s.
+struct StageClock {
+  const RefineOptions& o;
+  nlohmann::json& report;
+  Timer t;
+  void Done(const std::string& name) {
+    const double s = t.Seconds();
+    report["timings_s"][name] = s;
+    if (o.on_stage) o.on_stage(name, s);
+    t.Reset();
+  }
+};
 
 nlohmann::json ScoresToJson(const RemovalScores& s) {
   return {{"precision", s.precision}, {"recall", s.recall}, {"f1", s.f1}, {"iou", s.iou},
@@ -124,6 +207,23 @@ nlohmann::json ScoresToJson(const RemovalScores& s) {
 }
 
 }  // namespace
+
+Eigen::Map<const RowMatXf> RefineInputs::features() const {
+  if (borrowed_ != nullptr) return {borrowed_, borrowed_rows_, borrowed_dim_};
+  return {owned_features_.data(), owned_features_.rows(), owned_features_.cols()};
+}
+
+void RefineInputs::SetFeatures(RowMatXf rows) {
+  owned_features_ = std::move(rows);
+  borrowed_ = nullptr;
+}
+
+void RefineInputs::BorrowFeatures(const float* rows, Eigen::Index count, Eigen::Index dim) {
+  owned_features_.resize(0, 0);
+  borrowed_ = rows;
+  borrowed_rows_ = count;
+  borrowed_dim_ = dim;
+}
 
 std::string ResolveSolverName(const std::string& name) {
   if (!name.empty()) return name;
@@ -139,62 +239,73 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
     throw Error("--removed is required (or, with --method fgs, --prompt-embeddings and --positive)",
                 ExitCode::kUsage);
   if (derive_fgs && o.method != "fgs") throw Error("--prompt-embeddings needs --method fgs", ExitCode::kUsage);
-
-  nlohmann::json& timings = report["timings_s"];
-  nlohmann::json& warnings = report["warnings"];
-  Timer t;
-  auto stage_done = [&](const std::string& name) {
-    const double s = t.Seconds();
-    timings[name] = s;
-    if (o.on_stage) o.on_stage(name, s);
-    t.Reset();
-  };
+  StageClock clock{o, report, {}};
 
   RefineInputs in;
-  in.preset = {{"features", preset.features},
-               {"removed_is", preset.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-               {"gc_polarity", preset.gc_polarity}};
+  in.preset = PresetJson(preset);
   in.feature_spec = o.features.empty() ? preset.features : o.features;
   const bool feat_file = EndsWith(in.feature_spec, ".npy") || EndsWith(in.feature_spec, ".ply");
   PlyReadOptions ro;
   ro.feature_prefix = (in.feature_spec == "colour" || feat_file) ? "none" : in.feature_spec;
-  in.scene = ReadScene(o.scene, ro);
+  Scene scene = ReadScene(o.scene, ro);
   AddInputFile(report, "scene", o.scene);
-  LoadFeatures(o, in, report);
-  stage_done("load_scene");
+  LoadFeatures(o, scene, in, report);
+  in.scene = std::make_shared<const Scene>(std::move(scene));
+  FinishFeatures(o, in);
+  clock.Done("load_scene");
 
   in.removed_is = o.removed_is.value_or(preset.removed_is);
   if (derive_fgs) {
-    const RowMatXf prompts = ReadMatrixNpy(o.prompt_embeddings);
-    AddInputFile(report, "prompt_embeddings", o.prompt_embeddings);
-    if (in.colour_fallback) throw Error("--prompt-embeddings needs semantic features", ExitCode::kUsage);
-    FgsMaskOptions fo;
-    fo.positives = o.positives;
-    fo.threshold = o.fgs_threshold;
-    const FgsMaskResult m = FgsDerivedMask(in.features, prompts, fo);
-    in.removal.removed = m.removed;
-    in.removal.num_removed = m.num_removed;
-    in.fgs_mask = {{"removed", m.num_removed}, {"by_argmax", m.by_argmax},
-                   {"by_threshold_only", m.by_threshold_only}, {"near_threshold", m.near_threshold},
-                   {"zero_norm", m.zero_norm}, {"threshold", o.fgs_threshold}, {"positives", o.positives}};
-    if (m.near_threshold > 0)
-      warnings.push_back(std::to_string(m.near_threshold) +
-                         " Gaussians lie within 1e-3 of the FGS threshold (upstream float16 may flip them)");
+    DeriveFgsRemoval(o, in, report);
   } else {
-    RemovalLoadOptions lo;
-    lo.removed_is = in.removed_is;
-    lo.max_unmatched = o.max_unmatched;
-    lo.match_tolerance = o.match_tol;
-    lo.gc_polarity = preset.gc_polarity;
-    in.removal = LoadRemovalSet(o.removed, in.scene, lo);
+    in.removal = LoadRemovalSet(o.removed, *in.scene, RemovalOptionsFor(o, in, preset));
     AddInputFile(report, "removed", o.removed);
-    for (const auto& w : in.removal.warnings) warnings.push_back(w);
+    for (const auto& w : in.removal.warnings) report["warnings"].push_back(w);
   }
-  stage_done("load_removed");
+  clock.Done("load_removed");
 
   if (!o.labels.empty()) {
-    in.ground_truth = LoadGroundTruth(o, in.scene, report);
-    stage_done("load_labels");
+    in.ground_truth = LoadGroundTruth(o, *in.scene, report);
+    clock.Done("load_labels");
+  }
+  return in;
+}
+
+RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nlohmann::json& report) {
+  if (!data.scene) throw Error("refine: no scene given", ExitCode::kUsage);
+  const Preset preset = PresetFor(o.method);
+  const bool derive_fgs = data.removed.data == nullptr && !o.prompt_embeddings.empty();
+  if (data.removed.data == nullptr && !derive_fgs)
+    throw Error("refine: a removed set is required (or, with method fgs, prompt_embeddings and positive)",
+                ExitCode::kUsage);
+  if (derive_fgs && o.method != "fgs") throw Error("prompt_embeddings needs method fgs", ExitCode::kUsage);
+  if (!data.labels.empty() && !data.object_id) throw Error("refine: labels need an object id", ExitCode::kUsage);
+  StageClock clock{o, report, {}};
+
+  RefineInputs in;
+  in.scene = data.scene;
+  in.preset = PresetJson(preset);
+  in.feature_spec = o.features.empty() ? preset.features : o.features;
+  FeaturesFromData(data, in, report);
+  FinishFeatures(o, in);
+  clock.Done("load_scene");
+
+  in.removed_is = o.removed_is.value_or(preset.removed_is);
+  if (derive_fgs) {
+    DeriveFgsRemoval(o, in, report);
+  } else {
+    in.removal = RemovalSetFromArray(data.removed, data.name + " removed set", in.scene->size(),
+                                     RemovalOptionsFor(o, in, preset));
+    for (const auto& w : in.removal.warnings) report["warnings"].push_back(w);
+  }
+  clock.Done("load_removed");
+
+  if (!data.labels.empty()) {
+    if (data.labels.size() != in.scene->size())
+      throw Error(data.name + " labels: " + std::to_string(data.labels.size()) + " entries for " +
+                  std::to_string(in.scene->size()) + " Gaussians", ExitCode::kBadInput);
+    in.ground_truth = MakeGroundTruth(data.labels, *data.object_id, *in.scene);
+    clock.Done("load_labels");
   }
   return in;
 }
@@ -202,7 +313,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
   GraphOptions go = options;
   go.normalize_features = !inputs.colour_fallback;
-  return BuildRefineGraph(inputs.scene, inputs.features, inputs.removal.removed, go);
+  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go);
 }
 
 SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,

@@ -50,47 +50,31 @@ std::string Label(const Setting& s) {
 // pareto.png: each setting's mean run time (graph + solve) against its mean error 1 − F1 over the
 // scenes, one point style per solver, and the Pareto front (no other setting is both faster and
 // more accurate).
-void Pareto(const fs::path& dir, const std::vector<nlohmann::json>& records, nlohmann::json& out) {
-  struct Acc { double seconds = 0, error = 0; int n = 0; };
-  std::map<Setting, Acc> acc;
-  for (const auto& r : records) {
-    if (!HasF1(r)) continue;
-    Acc& a = acc[SettingOf(r)];
-    a.seconds += RunSeconds(r);
-    a.error += 1.0 - F1(r);
-    ++a.n;
-  }
-  if (acc.empty()) {
+void Pareto(const fs::path& dir, const std::vector<ParetoPoint>& points, nlohmann::json& out) {
+  if (points.empty()) {
     out["skipped_charts"].push_back({{"name", "pareto.png"}, {"reason", "no record has ground-truth F1 (give --labels)"}});
     return;
   }
   std::vector<std::string> solvers;
-  for (const auto& [s, a] : acc)
-    if (std::find(solvers.begin(), solvers.end(), std::get<5>(s)) == solvers.end()) solvers.push_back(std::get<5>(s));
+  for (const auto& p : points)
+    if (std::find(solvers.begin(), solvers.end(), p.solver) == solvers.end()) solvers.push_back(p.solver);
   std::ostringstream data;
   data << "# seconds(mean graph+solve) error(mean 1-F1) solver_index label\n";
-  std::vector<std::pair<double, double>> pts;
   for (std::size_t si = 0; si < solvers.size(); ++si) {
     data << "# solver " << solvers[si] << "\n";
-    for (const auto& [s, a] : acc) {
-      if (std::get<5>(s) != solvers[si]) continue;
-      const double sec = std::max(a.seconds / a.n, 1e-6), err = a.error / a.n;
-      data << Fmt(sec) << " " << Fmt(err) << " " << si << " \"" << Label(s) << "\"\n";
-      pts.push_back({sec, err});
-    }
+    for (const auto& p : points)
+      if (p.solver == solvers[si]) data << Fmt(p.seconds) << " " << Fmt(p.error) << " " << si << " \"" << p.label << "\"\n";
     data << "\n\n";
   }
-  std::sort(pts.begin(), pts.end());
-  std::ostringstream front;
-  front << "# Pareto front: seconds error\n";
-  double best = INFINITY;
-  for (const auto& [sec, err] : pts)
-    if (err < best) {
-      best = err;
-      front << Fmt(sec) << " " << Fmt(err) << "\n";
-    }
+  std::vector<const ParetoPoint*> front;
+  for (const auto& p : points)
+    if (p.on_front) front.push_back(&p);
+  std::sort(front.begin(), front.end(), [](const auto* a, const auto* b) { return a->seconds < b->seconds; });
+  std::ostringstream front_data;
+  front_data << "# Pareto front: seconds error\n";
+  for (const auto* p : front) front_data << Fmt(p->seconds) << " " << Fmt(p->error) << "\n";
   WriteFileAtomically(dir / "pareto.dat", data.str());
-  WriteFileAtomically(dir / "pareto_front.dat", front.str());
+  WriteFileAtomically(dir / "pareto_front.dat", front_data.str());
   std::ostringstream gp;
   gp << "set terminal png size 900,600\nset output 'pareto.png'\n"
      << "set title 'Run time against error (mean over scenes; graph build + solve)'\n"
@@ -183,15 +167,40 @@ void Heatmaps(const fs::path& dir, const std::vector<nlohmann::json>& records, n
 
 }  // namespace
 
+std::vector<ParetoPoint> ParetoPoints(const std::vector<nlohmann::json>& records) {
+  struct Acc { double seconds = 0, error = 0; int n = 0; nlohmann::json params; };
+  std::map<Setting, Acc> acc;
+  for (const auto& r : records) {
+    if (!HasF1(r)) continue;
+    Acc& a = acc[SettingOf(r)];
+    a.seconds += RunSeconds(r);
+    a.error += 1.0 - F1(r);
+    ++a.n;
+    a.params = r["params"];
+  }
+  std::vector<ParetoPoint> points;
+  for (const auto& [s, a] : acc)
+    points.push_back({std::get<5>(s), Label(s), a.params, std::max(a.seconds / a.n, 1e-6), a.error / a.n, a.n, false});
+  // On the front: no other setting is at least as fast and strictly more accurate, or faster and as accurate.
+  for (auto& p : points)
+    p.on_front = std::none_of(points.begin(), points.end(), [&](const ParetoPoint& q) {
+      return (q.seconds <= p.seconds && q.error < p.error) || (q.seconds < p.seconds && q.error <= p.error);
+    });
+  return points;
+}
+
 nlohmann::json WriteSweepSummaries(const std::string& dir_text, const std::vector<nlohmann::json>& records,
                                    bool charts) {
   const fs::path dir(dir_text);
   nlohmann::json out = {{"csv", "results.csv"}, {"charts", nlohmann::json::array()},
                         {"skipped_charts", nlohmann::json::array()}};
   WriteFileAtomically(dir / "results.csv", ResultsCsv(records));
-  if (!charts) return out;
-  Pareto(dir, records, out);
-  Heatmaps(dir, records, out);
+  if (charts) {
+    Pareto(dir, ParetoPoints(records), out);
+    Heatmaps(dir, records, out);
+  }
+  WriteFileAtomically(dir / "report.html", SweepReportHtml(records, out));
+  out["html"] = "report.html";
   return out;
 }
 

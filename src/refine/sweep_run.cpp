@@ -183,7 +183,7 @@ class PointRunner {
       record["gt"] = ScoreAgainstGroundTruth(*inputs_->ground_truth, inputs_->removal.removed, solved.refined);
     const double score_seconds = score_timer.Seconds();
     Timer eval_timer;
-    if (eval_setup_) record["eval"] = EvaluatePoint(inputs_->scene, *eval_setup_, solved.refined);
+    if (eval_setup_) record["eval"] = EvaluatePoint(*inputs_->scene, *eval_setup_, solved.refined);
     // graph: the build time of the graph this point used (also when reused), so graph + solve is
     // what the setting costs on its own; point: wall time this run spent on the point.
     record["seconds"] = {{"graph", graph_seconds_},

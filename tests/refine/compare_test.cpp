@@ -3,6 +3,7 @@
 // and the paper's percentile:95 rule add with cp and exact.
 #include "al/refine/compare.hpp"
 
+#include <memory>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -103,11 +104,11 @@ const Scene20k& Fixture() {
     Scene20k f;
     f.inputs.removal.removed = synth.removed.at("fgs");
     for (bool b : f.inputs.removal.removed) f.inputs.removal.num_removed += b;
-    f.inputs.features = synth.scene.features;
+    f.inputs.SetFeatures(synth.scene.features);
     f.inputs.ground_truth = GroundTruth{synth.labels, synth.target_id,
                                         std::vector<float>(synth.scene.opacity_logits.data(),
                                                            synth.scene.opacity_logits.data() + synth.scene.size())};
-    f.inputs.scene = std::move(synth.scene);
+    f.inputs.scene = std::make_shared<const Scene>(std::move(synth.scene));
     f.graph = BuildGraphFor(f.inputs, f.go);
     return f;
   }();

@@ -21,4 +21,13 @@ Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object)
 // Returns the number of painted pixels through `painted` (may be null).
 Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr);
 
+// The residual overlay of report.html: `render` with the object's pixels whose depth did not change
+// (object and not changed; `object` resized to the change mask's size with the exact rule) blended
+// 60 % towards red (230, 20, 20): what is left of the object.
+Image8 ResidualOverlay(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& changed);
+
+// Paints, in place, the pixels of `image` whose front-most Gaussian in `render` (the render that
+// shows them, i.e. without the refinement's removal) is in `restored`, 65 % towards cyan (0, 200, 230).
+void PaintRestored(Image8& image, const RenderOutput& render, const std::vector<bool>& restored);
+
 }  // namespace al::eval

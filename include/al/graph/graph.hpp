@@ -68,7 +68,7 @@ struct GraphResult {
 
 // features: N×D rows (scene order); D = 0 is an error (use ColourFeatures). removed: N.
 // Throws al::Error on size mismatches or bad options.
-GraphResult BuildRefineGraph(const Scene& scene, const RowMatXf& features,
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
                              const std::vector<bool>& removed, const GraphOptions& options = {});
 
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/io/npy.hpp"
 #include "al/scene/scene.hpp"
 
 namespace al {
@@ -35,6 +36,12 @@ struct RemovalSet {
 // Throws al::Error naming the file (out-of-range indices, wrong length, ambiguous 0/1 integers,
 // float arrays without gc polarity, unmatched rows above max_unmatched, ...).
 RemovalSet LoadRemovalSet(const std::string& path, const Scene& scene, const RemovalLoadOptions& options = {});
+
+// The .npy interpretation behind LoadRemovalSet, for an array already in memory (the Python module
+// hands NumPy arrays over without a copy): bool/uint8 mask of shape (N,), integer indices, or
+// (gc_polarity) floats with 0 = removed; then the removed_is polarity. `name` prefixes errors.
+RemovalSet RemovalSetFromArray(const NpyArray& array, const std::string& name, std::size_t num_gaussians,
+                               const RemovalLoadOptions& options = {});
 
 // The .txt parser behind LoadRemovalSet (in memory; for fuzzing): one index per line, blank lines
 // and '#' comments ignored, indices checked against [0, num_gaussians). `name` prefixes errors.

@@ -25,11 +25,11 @@ struct FgsMaskResult {
 
 // features: N×D; prompts: T×D (rows = prompts). Throws al::Error on shape mismatches or bad
 // positive indices.
-FgsMaskResult FgsDerivedMask(const RowMatXf& features, const RowMatXf& prompts,
+FgsMaskResult FgsDerivedMask(Eigen::Ref<const RowMatXf> features, const RowMatXf& prompts,
                              const FgsMaskOptions& options);
 
 // Reads W (.npy, (D',D) or (D',D,1,1)) and b ((D',)) and returns features·Wᵀ + b (N×D').
-RowMatXf ApplyDecoder(const RowMatXf& features, const std::string& weight_npy, const std::string& bias_npy);
+RowMatXf ApplyDecoder(Eigen::Ref<const RowMatXf> features, const std::string& weight_npy, const std::string& bias_npy);
 
 // Reads a float .npy of shape (R, C) as a row-major matrix (name used in errors).
 RowMatXf ReadMatrixNpy(const std::string& path);

@@ -2,7 +2,9 @@
 // preset, build the graph, solve, decide, score against ground truth, write the outputs
 // (refined.npy, refined.txt, added.txt, remaining.ply, report.json) into out_dir.
 #pragma once
+#include <cstdint>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +15,8 @@
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
 #include "al/io/masks.hpp"
+#include "al/io/npy.hpp"
+#include "al/scene/scene.hpp"
 
 namespace al {
 
@@ -36,7 +40,7 @@ struct RefineOptions {
   std::string prompt_embeddings;
   std::vector<int> positives;
   double fgs_threshold = 0.4;
-  std::string out_dir;                // required
+  std::string out_dir;                // required for RunRefine(options); optional with RefineData
   std::string export_problem_dir;     // non-empty: write the solvers' problem + p as .npy (problem_io.hpp)
   // Called after each stage with its name and duration (the CLI prints the slow ones).
   std::function<void(const std::string& stage, double seconds)> on_stage;
@@ -47,7 +51,28 @@ struct RefineResult {
   int exit_code = 0;                  // 0, or 3 for an empty graph
   std::string message;                // one human-readable summary (empty graph: what to try)
   std::vector<bool> removed, refined; // N
-  nlohmann::json report;              // exactly what was written to report.json
+  std::vector<std::int64_t> added;    // indices refinement added to the removed set (ascending)
+  std::vector<std::int64_t> restored; // indices it returned to the scene (ascending)
+  nlohmann::json report;              // exactly what was written to report.json (or would be,
+                                      // for RefineData without out_dir)
+
+  // The gist: status, message, counts, ground-truth scores before/after (when labels were
+  // given), total seconds.
+  nlohmann::json Summary() const;
+};
+
+// What to refine when it is already in memory (the Python module), in place of the files that
+// options.scene / removed / features / labels name. The arrays are read where they are (no copy)
+// and must outlive the call.
+struct RefineData {
+  std::shared_ptr<const Scene> scene;   // required
+  NpyArray removed;                     // as a --removed .npy: bool/uint8 mask (N,), indices, gc floats
+  NpyArray features;                    // optional (N, D) float rows (float32: used in place); none
+                                        // (data == nullptr): the preset's, i.e. the scene's features
+                                        // or the colour fallback
+  std::vector<std::int32_t> labels;     // optional ground truth (object id per Gaussian)
+  std::optional<int> object_id;         // the target; required with labels
+  std::string name = "(memory)";        // stands for the file names in report.params and errors
 };
 
 // Throws al::Error (bad input / usage) before writing anything. The outputs form one output set
@@ -60,5 +85,9 @@ OutputSetOptions RefineOutputSetOptions(const RefineOptions& options);
 RefineResult RefineIntoSet(const RefineOptions& options, OutputSet& set);
 // Writes the solvers' problem (and p) into its own output set (--export-problem).
 void ExportProblemSet(const RefineOptions& options, const RefineProblem& problem, const std::vector<double>* p);
+
+// The same refinement from memory: one code path with the file-based RunRefine after loading, so
+// both give identical masks for the same input. Writes the outputs only when options.out_dir is set.
+RefineResult RunRefine(const RefineData& data, const RefineOptions& options);
 
 }  // namespace al

@@ -4,6 +4,7 @@
 // loaded input and a built graph instead of repeating the work a parameter doesn't change.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -28,8 +29,7 @@ struct GroundTruth {
 
 // Everything the graph and the solvers need, loaded once.
 struct RefineInputs {
-  Scene scene;
-  RowMatXf features;                  // N×D (colour features when colour_fallback)
+  std::shared_ptr<const Scene> scene;  // shared, never copied (a Python Scene holds the same one)
   bool colour_fallback = false;       // features are RGB, compared by raw Euclidean distance
   std::string feature_spec;           // what was asked: "semantic_", "auto", FILE.npy, "colour", ...
   std::string feature_source;         // what was used, for the report
@@ -38,12 +38,29 @@ struct RefineInputs {
   nlohmann::json preset;              // the method preset's values (report params.preset)
   nlohmann::json fgs_mask;            // null unless the FGS mask was derived from prompts
   std::optional<GroundTruth> ground_truth;
+
+  // The N×D feature rows the graph compares (colour features when colour_fallback): held here
+  // (read from a file, decoded, colour) or borrowed (the scene's own columns, or a caller's array
+  // that must outlive the inputs), so features handed over from memory are never copied.
+  Eigen::Map<const RowMatXf> features() const;
+  void SetFeatures(RowMatXf rows);
+  void BorrowFeatures(const float* rows, Eigen::Index count, Eigen::Index dim);
+
+ private:
+  RowMatXf owned_features_;
+  const float* borrowed_ = nullptr;
+  Eigen::Index borrowed_rows_ = 0, borrowed_dim_ = 0;
 };
 
 // Validates the options and loads scene, features, removed set and labels. Records input files,
 // warnings and per-stage seconds into report (a NewReport object). Throws al::Error before any
 // output is written.
 RefineInputs LoadRefineInputs(const RefineOptions& options, nlohmann::json& report);
+
+// The same from memory (RefineData, al/refine/refine.hpp): the scene is shared, the arrays are read
+// in place (float32 feature rows are borrowed, not copied); options.scene/removed/features/labels
+// are not read. Throws al::Error like LoadRefineInputs.
+RefineInputs InputsFromData(const RefineData& data, const RefineOptions& options, nlohmann::json& report);
 
 // The graph for these inputs under options (feature normalisation follows the feature kind).
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options);

@@ -176,11 +176,27 @@ nlohmann::json RecordWithoutTimings(const nlohmann::json& record);
 // results.csv: one row per record, fixed columns (empty cells where a value is absent).
 std::string ResultsCsv(const std::vector<nlohmann::json>& records);
 
-// Writes results.csv and the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
-// F1 over k × δ, one panel per λ; charts = false: the CSV only) for the records into dir. Returns
-// {"csv", "charts": [...], "skipped_charts": [{name, reason}]} for the report.
+// Writes results.csv, the charts (pareto.png: run time against error; heatmap_f1_<solver>.png:
+// F1 over k × δ, one panel per λ; charts = false: none) and report.html for the records into dir.
+// Returns {"csv", "charts": [...], "skipped_charts": [{name, reason}], "html"} for the report.
 nlohmann::json WriteSweepSummaries(const std::string& dir, const std::vector<nlohmann::json>& records,
                                    bool charts = true);
+
+// One setting (the grid parameters without the scene) averaged over the scenes that have
+// ground-truth F1: mean run time (graph build + solve) and mean error 1 − F1.
+struct ParetoPoint {
+  std::string solver, label;    // label: "k=10 d=0.8 l=1" (h= when hops != 1)
+  nlohmann::json params;        // the setting's parameters (of one of its records)
+  double seconds = 0, error = 0;
+  int scenes = 0;
+  bool on_front = false;        // no other setting is both at least as fast and more accurate
+};
+std::vector<ParetoPoint> ParetoPoints(const std::vector<nlohmann::json>& records);
+
+// report.html of sweep / merge (docs/sweep.md): the charts WriteSweepSummaries drew (`summaries`
+// = its result), the Pareto table (front first), the best settings per scene and the skipped charts.
+// One self-contained page (al/core/html.hpp) beside results.csv.
+std::string SweepReportHtml(const std::vector<nlohmann::json>& records, const nlohmann::json& summaries);
 
 // ---- shard.json: which sweep an output folder is a slice of
 

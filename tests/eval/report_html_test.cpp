@@ -1,0 +1,93 @@
+// report.html of eval (al/eval/report_html.hpp): it shows what report.json holds, including parts
+// other evaluator work adds later (trust flags, feature metrics), sorts views by residual and keeps
+// every image reference relative. The page in a real browser: ctest browser.report_html.
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "al/core/html.hpp"
+#include "al/eval/records.hpp"
+#include "al/eval/report_html.hpp"
+
+namespace al::eval {
+namespace {
+
+using json = nlohmann::json;
+
+json Report() {
+  return json::parse(R"({
+    "params": {"row_name": "room-<mug>"},
+    "counts": {"views": 3, "evaluated": 2},
+    "warnings": ["a warning"],
+    "metrics": {"skipped": [{"metric": "sim_sam", "column": "after", "reason": "no --sam-before"}],
+      "columns": [
+        {"name": "after", "label": "fgs", "num_removed": 10,
+         "depth": {"mean_acc_delta_depth": 0.25, "collateral_depth": {"mean": 0.02},
+                   "flagged": [{"view": "v1", "flags": ["small_object"]}]},
+         "feature": {"mean_residual": 0.7}},
+        {"name": "bk", "label": "fgs+bk", "num_removed": 12, "added": 2,
+         "depth": {"mean_acc_delta_depth": 0.75, "collateral_depth": {"mean": 0.01}, "flagged": []},
+         "feature": {"mean_residual": 0.2}, "iou_drop_feat": 0.4}]}})");
+}
+
+json Views() {
+  return json::parse(R"([
+    {"view": "v0", "evaluated": 1, "after_acc_delta_depth": 0.5, "bk_acc_delta_depth": 0.9, "bk_trust_flags": ""},
+    {"view": "v1", "evaluated": 1, "after_acc_delta_depth": 0.0, "bk_acc_delta_depth": 0.6, "bk_trust_flags": "dark"}])");
+}
+
+json Images(const std::string& view) {
+  return {{"view", view},
+          {"images", {{{"key", "before"}, {"label", "before"}, {"src", "images/" + view + " before.png"}},
+                      {{"key", "bk"}, {"label", "fgs+bk"}, {"src", "images/" + view + "_bk.png"}}}}};
+}
+
+TEST(EvalReportHtml, ShowsEveryPartOfTheReport) {
+  const std::string html = EvalReportHtml(Report(), Views(), json::array({Images("v0"), Images("v1")}));
+  EXPECT_NE(html.find("room-&lt;mug&gt;"), std::string::npos);  // escaped
+  EXPECT_NE(html.find("<b>0.750</b>"), std::string::npos);       // best acc_Δdepth bold
+  EXPECT_NE(html.find("<b>0.0100</b>"), std::string::npos);      // best collateral depth (lower) bold
+  EXPECT_NE(html.find("Feature metrics"), std::string::npos);
+  EXPECT_NE(html.find("feature.mean_residual"), std::string::npos);
+  EXPECT_NE(html.find("iou_drop_feat"), std::string::npos);
+  EXPECT_NE(html.find("a warning"), std::string::npos);
+  EXPECT_NE(html.find("no --sam-before"), std::string::npos);
+  EXPECT_NE(html.find("src=\"images/v0%20before.png\""), std::string::npos);  // relative, encoded
+  EXPECT_EQ(html.find("http"), std::string::npos);                            // no network reference
+  // v1 has the larger residual of the last column (1 − 0.6 > 1 − 0.9): it comes first.
+  EXPECT_LT(html.find("id=\"view-v1\""), html.find("id=\"view-v0\""));
+}
+
+TEST(EvalReportHtml, FlagsComeFromTheReportAndTheRecords) {
+  const auto flagged = FlaggedViews(Report(), Views());
+  ASSERT_EQ(flagged.size(), 1u);
+  const auto& flags = flagged.at("v1");
+  EXPECT_EQ(flags, (std::vector<std::string>{"fgs, depth: small_object"}));
+  // Without flags in report.json, the per-view records' flag cells count.
+  json bare = Report();
+  bare["metrics"]["columns"][0]["depth"].erase("flagged");
+  EXPECT_EQ(FlaggedViews(bare, Views()).at("v1"), (std::vector<std::string>{"bk_trust_flags: dark"}));
+  const std::string html = EvalReportHtml(Report(), Views(), json::array({Images("v0"), Images("v1")}));
+  EXPECT_NE(html.find("class=\"view flagged\" id=\"view-v1\""), std::string::npos);
+  EXPECT_NE(html.find("cannot be trusted: fgs, depth\">⚑ small_object</span>"), std::string::npos);
+  EXPECT_NE(html.find("class=\"view\" id=\"view-v0\""), std::string::npos);
+}
+
+TEST(EvalRecords, ColumnsFlattenToScalars) {
+  const json records = ColumnRecords(Report());
+  ASSERT_EQ(records.size(), 2u);
+  EXPECT_EQ(records[0]["depth.mean_acc_delta_depth"], 0.25);
+  EXPECT_EQ(records[1]["feature.mean_residual"], 0.2);
+  EXPECT_FALSE(records[0].contains("depth.flagged"));  // arrays are not scalars
+}
+
+TEST(Html, EscapesAndEncodes) {
+  EXPECT_EQ(HtmlEscape("<a href=\"x\">'&'</a>"), "&lt;a href=&quot;x&quot;&gt;&#39;&amp;&#39;&lt;/a&gt;");
+  EXPECT_EQ(UrlPath("images/a b#1.png"), "images/a%20b%231.png");
+  EXPECT_EQ(HtmlNumber(0.12345, 2), "0.12");
+  EXPECT_EQ(HtmlNumber(std::nan(""), 2), "–");
+}
+
+}  // namespace
+}  // namespace al::eval
