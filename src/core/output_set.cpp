@@ -80,8 +80,12 @@ void CheckInputs(const OutputSetOptions& o, const fs::path& out, const Ownership
     const bool whole = top == ".";
     if (!whole && !Owned(own, out, top) && !Contains(o.planned, top) && !Contains(o.journals, top)) continue;
     if (whole && Entries(out).empty()) continue;
-    throw Error(o.flag + " " + out.string() + ": the input " + input.string() +
-                " lies inside it and this " + o.command + " run would replace it; choose another " + o.flag + " or move the input");
+    const bool written = !whole && (Contains(o.planned, top) || Contains(o.journals, top));
+    const std::string why = whole     ? "this " + o.command + " run replaces what is there"
+                            : written ? "this " + o.command + " run writes " + top
+                                      : "it belongs to the earlier al-refine output set there, which this " + o.command + " run replaces";
+    throw Error(o.flag + " " + out.string() + ": the input " + input.string() + " lies inside it and " + why +
+                "; choose another " + o.flag + " or move the input");
   }
 }
 
