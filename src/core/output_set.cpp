@@ -1,6 +1,7 @@
 // OutputSet (al/core/output_set.hpp): the checks before computing and the commit.
 #include "al/core/output_set.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -38,16 +39,29 @@ fs::path Canonical(const fs::path& p) {
   return c;
 }
 
-void CheckWritable(const fs::path& out, const fs::path& parent, const std::string& flag_name) {
+bool Writable(const fs::path& dir) { return ::access(dir.c_str(), W_OK | X_OK) == 0; }
+
+bool OnOtherDevice(const fs::path& a, const fs::path& b) {
+  struct stat sa {}, sb {};
+  return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev != sb.st_dev;
+}
+
+// Checks that --out can be written; true when the set must be staged inside --out: --out is a
+// mount point (a container's bind mount, a mounted disk: a sibling staging folder would be on
+// another filesystem, where nothing can be renamed into --out) or its parent is read-only.
+bool CheckWritable(const fs::path& out, const fs::path& parent, const std::string& flag_name) {
   const std::string flag = flag_name + " " + out.string();
   std::error_code ec;
   if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw Error(flag + ": exists and is not a folder");
+  if (fs::is_directory(out, ec)) {
+    if (!Writable(out)) throw Error(flag + ": cannot write: " + std::strerror(errno));
+    return OnOtherDevice(out, parent) || !Writable(parent);
+  }
   fs::create_directories(parent, ec);
   if (ec || !fs::is_directory(parent)) throw Error(flag + ": cannot create " + parent.string() + ": " + ec.message());
   if (::access(parent.c_str(), W_OK | X_OK) != 0)
     throw Error(flag + ": cannot write in " + parent.string() + ": " + std::strerror(errno));
-  if (fs::exists(out) && ::access(out.c_str(), W_OK | X_OK) != 0)
-    throw Error(flag + ": cannot write: " + std::strerror(errno));
+  return false;
 }
 
 // Removes killed runs' staging, finishes their commits; returns the journals they had claimed.
@@ -147,7 +161,7 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
     throw Error(options_.flag + " " + out.string() + ": cannot be a filesystem root");
   if (ActiveSets().count(out_))
     throw Error(options_.flag + " " + out.string() + ": already an output folder of this run");
-  CheckWritable(out_, parent_, options_.flag);
+  inside_ = CheckWritable(out_, parent_, options_.flag);
   for (auto& name : Recover(parent_, name_, out_))  // a claim counts only for this run's own journals
     if (Contains(options_.journals, name)) adopted_journals_.push_back(std::move(name));
   Ownership own = ReadOwnership(out_);
@@ -157,7 +171,7 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
   names.insert(names.end(), options_.journals.begin(), options_.journals.end());
   const auto foreign = ForeignCollisions(names, out_, own);
   if (!foreign.empty() && !options_.force) throw Error(ForeignMessage(options_.flag, out_, foreign));
-  staging_ = parent_ / ("." + name_ + ".al-staging-" + std::to_string(::getpid()));
+  staging_ = TransactionPath("al-staging-");
   std::error_code ec;
   fs::remove_all(staging_, ec);
   if (!fs::create_directory(staging_, ec) || ec)
@@ -170,6 +184,11 @@ OutputSet::~OutputSet() {
   ActiveSets().erase(out_);
   std::error_code ec;
   if (!committed_) fs::remove_all(staging_, ec);
+}
+
+fs::path OutputSet::TransactionPath(const std::string& kind) const {
+  const std::string pid = std::to_string(::getpid());
+  return inside_ ? out_ / ("." + kind + pid) : parent_ / ("." + name_ + "." + kind + pid);
 }
 
 fs::path OutputSet::Journal(const std::string& name) {
@@ -203,12 +222,13 @@ nlohmann::json OutputSet::Commit(nlohmann::json report) {
   if (!fs::exists(out_)) {
     fs::rename(staging_, out_, ec);
     if (ec) throw FileError(out_.string(), "cannot move the output set into place: " + ec.message());
-  } else if (!kept_foreign.empty() || InsideCwd(out_) || !TryExchange(staging_, out_, options_.journals, present)) {
+  } else if (inside_ || !kept_foreign.empty() || InsideCwd(out_) ||
+             !TryExchange(staging_, out_, options_.journals, present)) {
     // Foreign files stay where they are: entries move one by one from a committed journal folder.
     std::string removals;
     for (const auto& n : old_owned) removals += n + "\n";
     WriteFileAtomically(staging_ / kRemoveList, removals);
-    const fs::path commit = parent_ / ("." + name_ + ".al-commit-" + std::to_string(::getpid()));
+    const fs::path commit = TransactionPath("al-commit-");
     fs::rename(staging_, commit, ec);
     if (ec) throw FileError(out_.string(), "cannot commit the output set: " + ec.message());
     RollForward(commit, out_);

@@ -37,7 +37,8 @@ std::vector<std::string> Entries(const fs::path& dir);
 nlohmann::json BuildManifest(const fs::path& staging, const fs::path& out, const std::vector<std::string>& journals);
 
 // Stale transaction folders of `name` in `parent`: ".NAME.al-staging-PID", ".NAME.al-commit-PID"
-// and the older ".NAME.eval-tmp-PID".
+// and the older ".NAME.eval-tmp-PID"; and, inside NAME, ".al-staging-PID" and ".al-commit-PID"
+// (the folders of a set staged inside --out, see OutputSet).
 struct Stale {
   fs::path path;
   pid_t pid = 0;

@@ -10,6 +10,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <initializer_list>
 
 #include "al/core/error.hpp"
 #include "src/core/output_set_internal.hpp"
@@ -48,21 +49,30 @@ bool ProcessAlive(pid_t pid) {
   return ::kill(pid, 0) == 0 || errno == EPERM;
 }
 
-std::vector<Stale> FindTransactions(const fs::path& parent, const std::string& name) {
-  std::vector<Stale> found;
-  const std::string base = "." + name + ".";
+namespace {
+
+// Entries of `dir` named base + kind + PID.
+void FindIn(const fs::path& dir, const std::string& base, std::initializer_list<const char*> kinds, std::vector<Stale>& found) {
   std::error_code ec;
-  for (fs::directory_iterator it(parent, ec), end; !ec && it != end; it.increment(ec)) {
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string n = it->path().filename().string();
     if (n.rfind(base, 0) != 0) continue;
     const std::string rest = n.substr(base.size());
-    for (const char* kind : {"al-staging-", "al-commit-", "eval-tmp-"}) {
+    for (const char* kind : kinds) {
       const std::string k = kind;
       if (rest.rfind(k, 0) != 0) continue;
       if (const pid_t pid = ParsePid(rest.substr(k.size())); pid > 0)
         found.push_back({it->path(), pid, k == "al-commit-"});
     }
   }
+}
+
+}  // namespace
+
+std::vector<Stale> FindTransactions(const fs::path& parent, const std::string& name) {
+  std::vector<Stale> found;
+  FindIn(parent, "." + name + ".", {"al-staging-", "al-commit-", "eval-tmp-"}, found);
+  FindIn(parent / name, ".", {"al-staging-", "al-commit-"}, found);  // staged inside --out (StagesInside)
   std::sort(found.begin(), found.end(), [](const Stale& a, const Stale& b) { return a.path < b.path; });
   return found;
 }

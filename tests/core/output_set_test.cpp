@@ -1,4 +1,5 @@
 // Output sets as transactions (al/core/output_set.hpp): what a reader sees, what is never touched.
+#include <sys/mount.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -194,6 +195,37 @@ TEST(OutputSet, ACommitIntoTheWorkingFolderKeepsItInPlace) {
   EXPECT_EQ(Read("a.txt"), "a2");
   fs::current_path(before);
   EXPECT_EQ(VerifyOutputSet(out).state, "complete");
+}
+
+// Docker's -v DIR:/out or a mounted disk as --out: a staging folder beside it would lie on another
+// filesystem, from where nothing can be renamed into --out. The set is staged inside it.
+TEST(OutputSet, AMountPointAsOutIsStagedInsideIt) {
+  const fs::path out = test::TempDir() / "mnt";
+  fs::create_directories(out);
+  if (::geteuid() != 0 || ::mount("tmpfs", out.c_str(), "tmpfs", 0, "size=16m") != 0)
+    GTEST_SKIP() << "creating a mount point needs root and mount(2)";
+  struct Unmount {
+    fs::path dir;
+    ~Unmount() { ::umount2(dir.c_str(), MNT_DETACH); }
+  } unmount{out};
+  CommitSet(out, "1");
+  CommitSet(out, "2");
+  EXPECT_EQ(Read(out / "a.txt"), "a2");
+  EXPECT_EQ(Read(out / "sub" / "b.txt"), "b2");
+  EXPECT_EQ(VerifyOutputSet(out).state, "complete");
+  EXPECT_TRUE(Leftovers(out).empty());
+  // A killed run's staging inside --out is reported by verify and removed by the next run.
+  const fs::path dead = out / (".al-staging-" + std::to_string(DeadPid()));
+  Write(dead / "a.txt", "x");
+  const OutputSetStatus status = VerifyOutputSet(out);
+  ASSERT_EQ(status.problems.size(), 1u);
+  EXPECT_NE(status.problems[0].find("staging of a killed run"), std::string::npos);
+  CommitSet(out, "3");
+  EXPECT_FALSE(fs::exists(dead));
+  std::vector<std::string> inside;
+  for (const auto& e : fs::directory_iterator(out)) inside.push_back(e.path().filename().string());
+  std::sort(inside.begin(), inside.end());
+  EXPECT_EQ(inside, (std::vector<std::string>{"a.txt", "report.json", "sub"}));
 }
 
 TEST(OutputSet, VerifyNamesFilesThatDifferFromTheManifest) {

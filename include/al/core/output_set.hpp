@@ -3,7 +3,9 @@
 //    --out where this run would replace them, refuses foreign files (not listed by a previous
 //    al-refine manifest) under the names it will write unless --force, and cleans the staging of
 //    killed runs for the same --out (only entries of its own pattern whose process is gone).
-//  - Everything is written into a sibling staging folder ".NAME.al-staging-PID".
+//  - Everything is written into a sibling staging folder ".NAME.al-staging-PID" (inside --out,
+//    ".al-staging-PID", when --out is a mount point or its parent is read-only; such a set is
+//    committed entry by entry, as below).
 //  - Commit writes report.json last, with a manifest of the set's files (path, bytes, SHA-256),
 //    and makes the new set visible at once: the staging folder is exchanged with --out
 //    (renameat2 RENAME_EXCHANGE), so a reader sees the previous complete set or the new one.
@@ -57,7 +59,10 @@ class OutputSet {
   std::string name_;
   OutputSetOptions options_;
   std::vector<std::string> adopted_journals_;  // claimed by killed runs of the same --out
+  bool inside_ = false;     // staged inside --out (a mount point, or a read-only parent)
   bool committed_ = false;
+  // ".NAME.KIND-PID" beside --out, or ".KIND-PID" inside it.
+  std::filesystem::path TransactionPath(const std::string& kind) const;
 };
 
 // The "force" default every OutputSet of this process starts from (the CLI's --force).
