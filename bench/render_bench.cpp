@@ -1,16 +1,22 @@
 // Renderer throughput (SPEC §8): a generated 1M-Gaussian SH3 scene at 1280x720, full render vs
 // incremental "after" render with a compact removed object (< 5 % of the image). Counters: per-stage
 // median seconds, Gaussian-pixel evaluations (total, per wall second, per compositing second).
+// Feature rendering (RenderOptions::features): the same scene with D = 16 and D = 128 semantic
+// features (128 are projected to 64 channels once per scene, al/render/feature_field.hpp; the
+// projection time is a counter) at 320x240 and 1280x720, against the RGB-only render of the same
+// size in the same run (BM_RenderFeature/.../d:0).
 // Run: build/bench/render_bench --benchmark_format=json --benchmark_out=render.json
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <vector>
 
 #include <Eigen/Geometry>
 
+#include "al/render/feature_field.hpp"
 #include "al/render/render.hpp"
 
 namespace {
@@ -22,6 +28,7 @@ struct BenchData {
   al::Camera camera;
   std::vector<bool> object;  // the removed object
   std::size_t object_size = 0;
+  std::vector<std::uint8_t> surface;  // 0 wall, 1 floor, 2 table, 3 object, 4 floater (feature class)
 };
 
 // Gaussians sampled on surfaces in front of the camera, flat along the surface normal:
@@ -48,6 +55,7 @@ const BenchData& Data() {
       const float pick = U(rng);
       Eigen::Vector3f p, normal;
       Eigen::Vector3f base;
+      d.surface.push_back(pick < 0.45f ? 0 : pick < 0.8f ? 1 : pick < 0.93f ? 2 : pick < 0.995f ? 3 : 4);
       if (pick < 0.45f) {  // back wall z = 12
         p << -10 + 20 * U(rng), -6 + 8.5f * U(rng), 12;
         normal << 0, 0, 1;
@@ -168,8 +176,108 @@ void BM_RenderIncremental(benchmark::State& state) {
   state.counters["object_image_fraction"] = double(covered) / double(inc.before().front_id.size());
 }
 
+// Per-Gaussian semantic features of the bench scene: a unit class direction per surface (floaters
+// random) plus noise of norm ~0.3, D channels; deterministic.
+al::RowMatXf SceneFeatures(int dim) {
+  const BenchData& d = Data();
+  std::mt19937 rng(11);
+  std::normal_distribution<float> N(0, 1);
+  al::RowMatXf classes(5, dim), f(static_cast<Eigen::Index>(d.scene.size()), dim);
+  for (Eigen::Index i = 0; i < classes.size(); ++i) classes.data()[i] = N(rng);
+  for (Eigen::Index c = 0; c < 5; ++c) classes.row(c).normalize();
+  const float noise = 0.3f / std::sqrt(float(dim));
+  for (Eigen::Index i = 0; i < f.rows(); ++i) {
+    const std::uint8_t s = d.surface[std::size_t(i)];
+    for (int k = 0; k < dim; ++k) f(i, k) = (s < 4 ? classes(s, k) : N(rng)) + noise * N(rng);
+  }
+  return f;
+}
+
+// The rendered channels for D input channels (D > 64: projected once), with the preparation time.
+struct FeatureInput {
+  al::FeatureField field;
+  double prepare_seconds = 0;
+};
+const FeatureInput& Features(int dim) {
+  static std::map<int, FeatureInput> cache;
+  auto it = cache.find(dim);
+  if (it == cache.end()) {
+    FeatureInput in;
+    const al::RowMatXf raw = SceneFeatures(dim);
+    in.field = al::PrepareFeatureField(raw);
+    in.prepare_seconds = in.field.seconds;
+    it = cache.emplace(dim, std::move(in)).first;
+  }
+  return it->second;
+}
+
+al::Camera CameraOfWidth(int width) {
+  al::Camera c = Data().camera;
+  const double s = double(width) / c.width;
+  c.width = width;
+  c.height = int(std::lround(c.height * s));
+  if (width == 320) c.height = 240;  // the eval resolution (4:3)
+  c.fx *= s;
+  c.fy *= s;
+  c.cx = c.width / 2.0;
+  c.cy = c.height / 2.0;
+  return c;
+}
+
+// Full render, 2 threads, at width range(0), with range(1) feature channels (0 = RGB only).
+void BM_RenderFeature(benchmark::State& state) {
+  const BenchData& d = Data();
+  const al::Camera cam = CameraOfWidth(int(state.range(0)));
+  const int dim = int(state.range(1));
+  al::RenderOptions opt;
+  opt.num_threads = 2;
+  const FeatureInput* in = dim > 0 ? &Features(dim) : nullptr;
+  if (in) opt.features = &in->field.channels;
+  al::RenderOutput out;
+  StageTimes times;
+  for (auto _ : state) {
+    out = al::Render(d.scene, cam, opt);
+    benchmark::DoNotOptimize(out.rgb.data());
+    times.Add(out);
+  }
+  SetCounters(state, out, times);
+  state.counters["width"] = cam.width;
+  state.counters["height"] = cam.height;
+  state.counters["input_dim"] = dim;
+  state.counters["rendered_channels"] = in ? in->field.dim() : 0;
+  if (in) {
+    state.counters["prepare_seconds"] = in->prepare_seconds;  // once per scene (centring, projection)
+    state.counters["kept_variance"] = in->field.kept_variance;
+  }
+}
+
+// Incremental "after" render with 16 feature channels (2 threads, 1280x720).
+void BM_RenderIncrementalFeature(benchmark::State& state) {
+  const BenchData& d = Data();
+  al::RenderOptions opt;
+  opt.num_threads = 2;
+  opt.features = &Features(int(state.range(0))).field.channels;
+  al::IncrementalRenderer inc(d.scene, d.camera, opt);
+  al::RenderOutput out;
+  StageTimes times;
+  for (auto _ : state) {
+    out = inc.After(d.object);
+    benchmark::DoNotOptimize(out.feature.data());
+    times.Add(out);
+  }
+  SetCounters(state, out, times);
+}
+
 BENCHMARK(BM_RenderFull)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true)->UseRealTime();
 BENCHMARK(BM_RenderIncremental)->Arg(2)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true)->UseRealTime();
+BENCHMARK(BM_RenderFeature)
+    ->ArgNames({"w", "d"})
+    ->ArgsProduct({{320, 1280}, {0, 16, 128}})
+    ->Unit(benchmark::kMillisecond)
+    ->Repetitions(5)
+    ->ReportAggregatesOnly(true)
+    ->UseRealTime();
+BENCHMARK(BM_RenderIncrementalFeature)->ArgName("d")->Arg(16)->Unit(benchmark::kMillisecond)->Repetitions(5)->ReportAggregatesOnly(true)->UseRealTime();
 
 }  // namespace
 

@@ -633,6 +633,42 @@ void ScaleSection(std::ostream& md, const json& scale, const std::string& chart)
   if (!chart.empty()) md << "![scale](" << chart << ")\n\n";
 }
 
+// Feature rendering (render_bench BM_RenderFeature/w:W/d:D): ms per view against the RGB-only
+// render of the same size in the same run (d:0), and the one-off per-scene preparation.
+void FeatureSection(std::ostream& md, const Files& files) {
+  auto it = files.find("render_bench");
+  if (it == files.end()) return;
+  std::vector<const Case*> rows;
+  for (const Case& c : it->second.cases)
+    if (!c.error && c.name.rfind("BM_RenderFeature/", 0) == 0) rows.push_back(&c);
+  if (rows.empty()) return;
+  md << "## Feature rendering (render_bench)\n\n"
+     << "Per-Gaussian semantic features composited with the RGB blend weights in the same pass\n"
+     << "(`RenderOptions::features`, docs/rendering.md), 1M-Gaussian scene, 2 threads. D > 64 is projected\n"
+     << "on its 64 leading principal axes once per scene (\"prepare\", not per view). Baseline: the\n"
+     << "RGB-only render of the same size in the same run.\n\n"
+     << "| size | D (rendered) | ms per view | RGB only, ms | ratio | composite s (RGB only) | prepare s (once) |\n"
+     << "|---|---|---|---|---|---|---|\n";
+  for (const Case* c : rows) {
+    const double dim = c->Counter("input_dim").value_or(0);
+    if (dim == 0) continue;
+    const std::string size = Fmt(c->Counter("width").value_or(NAN)) + "×" + Fmt(c->Counter("height").value_or(NAN));
+    const std::string w = c->name.substr(0, c->name.find("/d:"));
+    const Case* base = Lookup(files, "render_bench", w + "/d:0");
+    md << "| " << size << " | " << Fmt(dim) << " (" << Fmt(c->Counter("rendered_channels").value_or(NAN)) << ") | "
+       << Fmt(c->MedianMs()) << " | " << (base ? Fmt(base->MedianMs()) : "–") << " | "
+       << (base ? Fmt(c->MedianMs() / base->MedianMs()) + "×" : "–") << " | "
+       << Fmt(c->Counter("seconds_composite").value_or(NAN))
+       << (base ? " (" + Fmt(base->Counter("seconds_composite").value_or(NAN)) + ")" : "") << " | "
+       << Fmt(c->Counter("prepare_seconds").value_or(NAN)) << " |\n";
+  }
+  if (const Case* inc = Lookup(files, "render_bench", "BM_RenderIncrementalFeature/d:16"))
+    if (const Case* plain = Lookup(files, "render_bench", "BM_RenderIncremental/2"))
+      md << "\nIncremental \"after\" render, 1280×720, D = 16: " << Fmt(inc->MedianMs()) << " ms (RGB only "
+         << Fmt(plain->MedianMs()) << " ms, " << Fmt(inc->MedianMs() / plain->MedianMs()) << "×).\n";
+  md << "\n";
+}
+
 int Main(int argc, char** argv) {
   fs::path results = "bench/results", out = "docs/benchmarks.md", charts = "docs/benchmarks";
   std::string gnuplot = "gnuplot";
@@ -690,6 +726,7 @@ int Main(int argc, char** argv) {
        << (t.ratio.empty() ? "–" : t.ratio) << " | " << t.target << " | " << MetText(t.met) << " |\n";
   md << "\n";
   if (have_targets_png) md << "![targets](" << rel << "/targets.png)\n\n";
+  FeatureSection(md, files);
 
   md << "## Per benchmark\n\n"
      << "Times in ms. min/max are over the repetitions; \"–\" where the benchmark keeps only\n"

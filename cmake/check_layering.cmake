@@ -17,7 +17,7 @@ set(allowed_solver_cp    core io graph max_flow solvers solver_cp)
 set(allowed_solver_exact core io graph max_flow solvers solver_exact)
 set(allowed_solvers   core io graph solvers solver_bk solver_cp solver_exact)
 set(allowed_fixtures  core io render graph metrics fixtures)
-set(allowed_eval      core io render metrics eval)
+set(allowed_eval      core io render graph metrics eval)
 set(allowed_refine    core io render graph metrics eval solvers refine)
 set(allowed_cli       core io render graph metrics max_flow solvers fixtures eval refine cli)
 

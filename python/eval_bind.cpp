@@ -7,6 +7,7 @@
 
 #include "al/core/error.hpp"
 #include "al/eval/eval.hpp"
+#include "al/eval/feature_eval.hpp"
 #include "al/eval/records.hpp"
 #include "python/common.hpp"
 #include "python/options.hpp"
@@ -46,7 +47,8 @@ struct ScratchDir {
 };
 
 // EvalOptions has no options table yet: the fields bound here by name are out, row_name, images,
-// background, sh_degree, threads; a table added later is applied by TakeTableOptions.
+// background, sh_degree, threads; a table added later is applied by TakeTableOptions. The feature
+// metrics' options have tables (feature_metrics, feature_min_sim, ...: the CLI's --feature-* flags).
 eval::EvalOptions EvalOptionsFrom(const std::string& out, const std::string& row_name, bool images,
                                   const std::vector<float>& background, int sh_degree, int threads, py::dict kwargs) {
   eval::EvalOptions o;
@@ -60,9 +62,12 @@ eval::EvalOptions EvalOptionsFrom(const std::string& out, const std::string& row
   o.render.max_sh_degree = sh_degree;
   o.render.num_threads = threads;
   TakeTableOptions(o, kwargs);
+  TakeOptions(eval::FeatureEvalOptions::Table(), o.feature, kwargs);
+  TakeOptions(FeatureFieldOptions::Table(), o.feature.field, kwargs);
+  TakeOptions(metrics::FeatureSegOptions::Table(), o.feature.segmentation, kwargs);
   for (const auto& [key, value] : kwargs)
     throw Error("evaluate: unknown option '" + py::str(key).cast<std::string>() +
-                    "' (out, row_name, images, background, sh_degree, threads)",
+                    "' (out, row_name, images, background, sh_degree, threads, the feature_* options)",
                 ExitCode::kUsage);
   return o;
 }
@@ -102,29 +107,40 @@ py::dict Evaluate(const PyScene& scene, const py::object& cameras, const py::arr
   return result;
 }
 
+std::string EvaluateDoc() {
+  std::string doc = R"(evaluate(scene, cameras, removed, refined=None, *, labels=None, object_id=None, object_masks=None,
+         label="removal", out=None, row_name="scene", images=True, background=(0, 0, 0), sh_degree=3,
+         threads=0, **options)
+
+The evaluator of `al-refine eval` (docs/eval.md): renders every view before the removal, after it
+and after each refinement, and computes acc_delta_depth (8-bit and float), collateral damage, the
+feature metrics when the scene has semantic features (IoU_drop_feat, acc_seg_feat, residual_feat:
+the summary's feature.* fields) and, with labels, the scores against the ground truth. removed:
+the method's set (bool mask or indices); refined: one refined set, or {name: set}. The object per
+view: labels + object_id (rendered, share >= 0.5) or object_masks (a folder of VIEW.png). out: a
+folder for the CLI's outputs (report.json, report.html, metrics.csv, tables, images); None:
+nothing is kept. The GIL is released while rendering.
+
+Returns {"summary": one flat record per column, "views": one record per view (the metrics.csv
+columns), "report": the report.json dict, "out": the folder or None}; pandas.DataFrame(result[
+"summary"]) and pandas.DataFrame(result["views"]) give the tables.
+
+)";
+  doc += OptionsDoc(eval::FeatureEvalOptions::Table()) + OptionsDoc(FeatureFieldOptions::Table()) +
+         OptionsDoc(metrics::FeatureSegOptions::Table());
+  return doc;
+}
+
 }  // namespace
 
 void BindEval(py::module_& m) {
+  static const std::string doc = EvaluateDoc();
   m.def("evaluate", &Evaluate, py::arg("scene"), py::arg("cameras"), py::arg("removed"),
         py::arg("refined") = py::none(), py::kw_only(), py::arg("labels") = py::none(),
         py::arg("object_id") = py::none(), py::arg("object_masks") = py::none(), py::arg("label") = "removal",
         py::arg("out") = py::none(), py::arg("row_name") = "scene", py::arg("images") = true,
         py::arg("background") = std::vector<float>{0, 0, 0}, py::arg("sh_degree") = 3, py::arg("threads") = 0,
-        R"(evaluate(scene, cameras, removed, refined=None, *, labels=None, object_id=None, object_masks=None,
-         label="removal", out=None, row_name="scene", images=True, background=(0, 0, 0), sh_degree=3,
-         threads=0)
-
-The evaluator of `al-refine eval` (docs/eval.md): renders every view before the removal, after it
-and after each refinement, and computes acc_delta_depth (8-bit and float), collateral damage and,
-with labels, the scores against the ground truth. removed: the method's set (bool mask or
-indices); refined: one refined set, or {name: set}. The object per view: labels + object_id
-(rendered, share >= 0.5) or object_masks (a folder of VIEW.png). out: a folder for the CLI's
-outputs (report.json, report.html, metrics.csv, tables, images); None: nothing is kept.
-The GIL is released while rendering.
-
-Returns {"summary": one flat record per column, "views": one record per view (the metrics.csv
-columns), "report": the report.json dict, "out": the folder or None}; pandas.DataFrame(result[
-"summary"]) and pandas.DataFrame(result["views"]) give the tables.)");
+        doc.c_str());
 }
 
 }  // namespace al::python

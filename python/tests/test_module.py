@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 import al_refine as al
 
@@ -59,3 +60,20 @@ def test_three_lines_from_the_build_folder():
     assert out.returncode == 0, out.stderr
     added, f1 = out.stdout.split()
     assert int(added) > 0 and 0.0 < float(f1) <= 1.0
+
+
+def test_evaluate_scores_the_feature_metrics_and_takes_their_options(synth):
+    perfect = synth.labels == synth.target_id
+    args = (synth.scene, synth.cameras, perfect)
+    kw = dict(labels=synth.labels, object_id=synth.target_id)
+    on = al.evaluate(*args, {"half": perfect & (np.arange(perfect.size) % 2 == 0)}, **kw)["summary"]
+    # Everything of the target removed: nothing of it is segmented after; half of it removed: some is.
+    assert on[0]["feature.mean_residual"] < 0.05 and on[0]["feature.mean_iou_after"] < 0.05
+    assert on[1]["feature.mean_residual"] > on[0]["feature.mean_residual"]
+    assert on[0]["feature.mean_iou_drop"] > 0.5
+    tuned = al.evaluate(*args, feature_min_sim=0.6, feature_channels=8, **kw)["report"]["params"]["feature"]
+    assert tuned["feature_min_sim"] == 0.6 and tuned["feature_channels"] == 8
+    off = al.evaluate(*args, feature_metrics="off", **kw)
+    assert not any(k.startswith("feature.") for k in off["summary"][0])
+    with pytest.raises(al.UsageError, match="feature_min_sim"):
+        al.evaluate(*args, feature_min_sim=2, **kw)

@@ -1,5 +1,6 @@
 // `al-refine demo --out DIR`: the whole job on a generated scene (README "./al demo"): synth →
 // refine the simulated FGS removal with bk and cp → eval of the three removals → a short summary.
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <regex>
@@ -101,8 +102,8 @@ class DemoCommand : public Command {
     std::printf("\n%s: target '%s' (%zu Gaussians), %zu of %zu views show it\n", eo.row_name.c_str(),
                 synth.target_name.c_str(), synth.objects[std::size_t(synth.target_id)].count, er.evaluated,
                 synth.cameras.size());
-    std::printf("%-10s %8s %7s %7s %7s %10s %10s %11s %9s\n", "removal", "removed", "added", "F1(GT)", "IoU(GT)",
-                "acc_ddepth", "acc_dd_flt", "collat_dep", "refine_s");
+    std::printf("%-10s %8s %7s %7s %7s %10s %10s %11s %11s %9s %9s\n", "removal", "removed", "added", "F1(GT)",
+                "IoU(GT)", "acc_ddepth", "acc_dd_flt", "collat_dep", "IoU_drop_ft", "resid_ft", "refine_s");
     nlohmann::json summary = nlohmann::json::array();
     for (std::size_t c = 0; c < cols.size(); ++c) {
       const auto& col = cols[c];
@@ -110,18 +111,27 @@ class DemoCommand : public Command {
       const std::string added = c == 0 ? "-" : std::to_string(col["added"].get<std::size_t>());
       char secs[32] = "-";
       if (c > 0) std::snprintf(secs, sizeof secs, "%.2f", refine_s);
-      std::printf("%-10s %8zu %7s %7.3f %7.3f %10.3f %10.3f %11.4f %9s\n", col["label"].get<std::string>().c_str(),
-                  col["num_removed"].get<std::size_t>(), added.c_str(), col["gt"]["f1"].get<double>(),
-                  col["gt"]["iou"].get<double>(), col["depth"]["mean_acc_delta_depth"].get<double>(),
+      // Feature metrics: segmentation of the scene's own rendered feature field (docs/eval.md).
+      const bool feat = col.contains("feature");
+      std::printf("%-10s %8zu %7s %7.3f %7.3f %10.3f %10.3f %11.4f %11.3f %9.3f %9s\n",
+                  col["label"].get<std::string>().c_str(), col["num_removed"].get<std::size_t>(), added.c_str(),
+                  col["gt"]["f1"].get<double>(), col["gt"]["iou"].get<double>(),
+                  col["depth"]["mean_acc_delta_depth"].get<double>(),
                   col["depth_float"]["mean_acc_delta_depth"].get<double>(),
                   col["depth"]["collateral_depth"]["mean"].get<double>(),
-                  secs);
+                  feat ? col["feature"]["mean_iou_drop"].get<double>() : NAN,
+                  feat ? col["feature"]["mean_residual"].get<double>() : NAN, secs);
       nlohmann::json s = {{"label", col["label"]},
                           {"num_removed", col["num_removed"]},
                           {"gt", col["gt"]},
                           {"acc_delta_depth", col["depth"]["mean_acc_delta_depth"]},
                           {"acc_delta_depth_float", col["depth_float"]["mean_acc_delta_depth"]},
                           {"collateral_depth", col["depth"]["collateral_depth"]["mean"]}};
+      if (feat) {
+        s["iou_drop_feat"] = col["feature"]["mean_iou_drop"];
+        s["acc_seg_feat"] = col["feature"]["acc_seg"];
+        s["residual_feat"] = col["feature"]["mean_residual"];
+      }
       if (c > 0) {
         s["added"] = col["added"];
         s["refine_status"] = runs[c - 1].result.status;
@@ -133,9 +143,12 @@ class DemoCommand : public Command {
       if (r.result.exit_code != 0) std::printf("note: refine with %s: %s\n", r.solver.c_str(), r.result.message.c_str());
     std::printf("timings: synth %.1f s, refine bk %.1f s, cp %.1f s, eval %.1f s (render %.1f, metrics %.1f, io %.1f)\n",
                 synth_s, runs[0].seconds, runs[1].seconds, eval_s, er.seconds_render, er.seconds_metrics, er.seconds_io);
+    std::printf("features: IoU_drop_ft = drop of the target's IoU in the scene's own rendered feature field, "
+                "resid_ft = share of its before-pixels still segmented as it after (lower = less left)\n");
     std::printf("open first: %s (summary, every view side by side, residual and added overlays)\n", page.c_str());
     const fs::path shown(out_);
-    std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk)\n",
+    std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk, "
+                "_featseg.png = feature segmentation before | after, red = residual)\n",
                 (shown / "eval" / "images").string().c_str());
     std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (shown / "eval" / "table.md").string().c_str(),
                 (shown / "eval" / "table.tex").string().c_str(), (shown / "scene").string().c_str(),

@@ -15,6 +15,7 @@
 #include "al/io/ply.hpp"
 #include "src/cli/background_flag.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/feature_flags.hpp"
 
 namespace al::cli {
 
@@ -23,8 +24,8 @@ class EvalCommand : public Command {
   std::string Name() const override { return "eval"; }
   std::string Description() const override {
     return "Score a removal (and its refinements): renders before/after/refined, acc_delta_depth, collateral "
-           "damage, IoU_drop and sim_SAM when segmentations are given; report.json, metrics.csv, table.md/.tex, "
-           "images";
+           "damage, feature-field IoU_drop/acc_seg/residual, IoU_drop and sim_SAM when segmentations are given; "
+           "report.json, metrics.csv, table.md/.tex, images";
   }
   void Setup(CLI::App& app) override {
     app.add_option("--scene", scene_, "Full pre-removal scene (.ply or .splat)")->required();
@@ -73,6 +74,7 @@ class EvalCommand : public Command {
     app.add_option("--ght-tau", o_.ght.tau, "GHT tau")->default_val(300.0);
     app.add_option("--out", o_.out_dir, "Output directory")->required();
     app.add_flag("--quiet", quiet_, "No progress bar");
+    AddFeatureFlags(app, feature_);
   }
 
   int Run() override {
@@ -95,7 +97,7 @@ class EvalCommand : public Command {
 
     nlohmann::json report = NewReport("eval");
     Timer t;
-    const Scene scene = ReadScene(scene_);
+    Scene scene = ReadScene(scene_);
     AddInputFile(report, "scene", scene_);
     const double load_scene_s = t.Seconds();
     t.Reset();
@@ -150,6 +152,7 @@ class EvalCommand : public Command {
     if (row.empty()) row = std::filesystem::path(scene_).parent_path().filename().string();
     if (row.empty()) row = std::filesystem::path(scene_).stem().string();
     o_.row_name = row;
+    o_.feature = ToFeatureOptions(feature_, scene);
     const double load_inputs_s = t.Seconds();
 
     report["params"] = {{"scene", scene_},          {"removed", removed_},   {"removed_is", removed_is_},
@@ -163,14 +166,17 @@ class EvalCommand : public Command {
     const auto& cols = r.report["metrics"]["columns"];
     std::printf("eval %s: %zu of %zu views evaluated (%zu without the object)\n", row.c_str(), r.evaluated,
                 views.size(), r.skipped_empty_object + r.missing_object_masks);
-    std::printf("  %-16s %9s %9s %10s %11s %9s\n", "removal", "removed", "acc_dd", "acc_dd_f", "coll_depth", "IoU_drop");
-    for (const auto& c : cols) {
-      const std::string drop = c.contains("semantic") ? std::to_string(c["semantic"]["mean_iou_drop"].get<double>()) : "-";
-      std::printf("  %-16s %9zu %9.3f %10.3f %11.4f %9s\n", c["label"].get<std::string>().c_str(),
+    std::printf("  %-16s %9s %9s %10s %11s %9s %11s %10s\n", "removal", "removed", "acc_dd", "acc_dd_f",
+                "coll_depth", "IoU_drop", "IoU_drop_ft", "resid_ft");
+    auto field = [](const nlohmann::json& c, const char* group, const char* key) {
+      return c.contains(group) ? std::to_string(c[group][key].get<double>()).substr(0, 6) : std::string("-");
+    };
+    for (const auto& c : cols)
+      std::printf("  %-16s %9zu %9.3f %10.3f %11.4f %9s %11s %10s\n", c["label"].get<std::string>().c_str(),
                   c["num_removed"].get<std::size_t>(), c["depth"]["mean_acc_delta_depth"].get<double>(),
                   c["depth_float"]["mean_acc_delta_depth"].get<double>(),
-                  c["depth"]["collateral_depth"]["mean"].get<double>(), drop.c_str());
-    }
+                  c["depth"]["collateral_depth"]["mean"].get<double>(), field(c, "semantic", "mean_iou_drop").c_str(),
+                  field(c, "feature", "mean_iou_drop").c_str(), field(c, "feature", "mean_residual").c_str());
     for (const auto& s : r.skipped)
       if (s.column == "after") std::printf("  skipped %s: %s\n", s.metric.c_str(), s.reason.c_str());
     std::printf("wrote %s/{report.json, metrics.csv, table.md, table.tex, images/}\n", o_.out_dir.c_str());
@@ -186,6 +192,7 @@ class EvalCommand : public Command {
   int object_id_ = kUnset;
   bool no_images_ = false, quiet_ = false;
   eval::EvalOptions o_;
+  FeatureFlags feature_;
 };
 
 AL_REGISTER_COMMAND(EvalCommand);

@@ -11,11 +11,49 @@ std::uint8_t To8(float v) {
   return static_cast<std::uint8_t>(std::lround(c * 255.0f));
 }
 
+// Object pixels with a 4-neighbour outside the object or on the image border.
+bool OnOutline(const metrics::Mask& o, int x, int y) {
+  auto in = [&](int u, int v) { return u >= 0 && v >= 0 && u < o.width && v < o.height && o.bits[std::size_t(v) * o.width + u]; };
+  return in(x, y) && !(in(x - 1, y) && in(x + 1, y) && in(x, y - 1) && in(x, y + 1));
+}
+
+// One half of FeatureSegImage: the render as dimmed grey, tinted where the masks say.
+void PaintPanel(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& target,
+                const metrics::Mask* residual_of, int x_offset, Image8& img) {
+  const Image8 rgb = RenderToRgb8(render);
+  const int w = render.width, h = render.height;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const std::size_t p = std::size_t(y) * w + x;
+      const std::uint8_t* src = &rgb.pixels[p * 3];
+      const float grey = 0.5f * (0.299f * src[0] + 0.587f * src[1] + 0.114f * src[2]);
+      float c[3] = {grey, grey, grey};
+      const float* tint = nullptr;
+      static constexpr float kBlue[3] = {40, 110, 255}, kRed[3] = {255, 30, 30}, kGreen[3] = {0, 255, 0};
+      if (target.bits[p]) tint = residual_of && residual_of->bits[p] && object.bits[p] ? kRed : kBlue;
+      if (tint)
+        for (int k = 0; k < 3; ++k) c[k] = 0.35f * c[k] + 0.65f * tint[k];
+      if (OnOutline(object, x, y)) tint = kGreen;
+      std::uint8_t* dst = &img.pixels[(std::size_t(y) * img.width + x_offset + x) * 3];
+      for (int k = 0; k < 3; ++k) dst[k] = static_cast<std::uint8_t>(std::lround(tint == kGreen ? tint[k] : c[k]));
+    }
+}
+
 void Blend(std::uint8_t* px, const float colour[3], float mix) {
   for (int c = 0; c < 3; ++c) px[c] = std::uint8_t(std::lround((1 - mix) * px[c] + mix * colour[c]));
 }
 
 }  // namespace
+
+Image8 FeatureSegImage(const RenderOutput& before, const RenderOutput& after, const metrics::Mask& object,
+                       const metrics::Mask& target_before, const metrics::Mask& target_after) {
+  const int w = before.width, h = before.height;
+  Image8 img{2 * w, h, 3, std::vector<std::uint8_t>(std::size_t(2 * w) * h * 3, 0)};
+  PaintPanel(before, object, target_before, nullptr, 0, img);
+  // Residual: target after where it was the object's target before.
+  PaintPanel(after, object, target_after, &target_before, w, img);
+  return img;
+}
 
 Image8 RenderToRgb8(const RenderOutput& render) {
   const std::size_t n = std::size_t(render.width) * std::size_t(render.height) * 3;

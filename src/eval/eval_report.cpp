@@ -32,6 +32,18 @@ json SemanticSummaryJson(const metrics::SemanticSummary& s) {
           {"missing_before", s.missing_before}, {"missing_after", s.missing_after}};
 }
 
+// The feature metrics of a column: the GroundedSAM fields with the feature segmentation as the
+// detector (suffix-free names inside the "feature" object), plus the residual.
+json FeatureSummaryJson(const metrics::FeatureSummary& s) {
+  json j = SemanticSummaryJson(s.semantic);
+  j.erase("missing_before");
+  j.erase("missing_after");
+  j["mean_residual"] = s.residual.mean;
+  j["std_residual"] = s.residual.std;
+  j["n_residual_views"] = s.residual.count;
+  j["views_without_target_before"] = s.views_without_target;
+  return j;
+}
 
 }  // namespace
 
@@ -57,6 +69,7 @@ void AddEvalParams(json& report, const std::vector<EvalColumn>& columns, const O
   params["depth_trust"] = o.trust.ToJson();
   params["sam_min_iou"] = o.sim_sam.min_object_iou;
   params["export_renders"] = o.export_renders;
+  params["feature"] = o.feature.ToJson();
   params["write_images"] = o.write_images;
 }
 
@@ -69,6 +82,7 @@ json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const E
             {"collateral_psnr", {{"psnr", MeanStdJson(s.collateral_psnr)}, {"identical", s.identical}}}};
   j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
   if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);
+  if (s.feature) j["feature"] = FeatureSummaryJson(*s.feature);
   if (s.sim_sam)
     j["sim_sam"] = {{"n_scored", s.sim_sam->count},
                     {"mean_sim_sam", s.sim_sam->mean},

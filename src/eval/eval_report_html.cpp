@@ -39,6 +39,15 @@ constexpr SummaryRow kSummaryRows[] = {
     {"gt.recall", "recall vs ground truth ↑", +1, 3},
 };
 
+// The feature metrics (docs/eval.md, "Feature metrics"), named as in metrics.csv and the tables;
+// acc_seg_feat gets one row per ξ of the report (FeatureRows).
+constexpr SummaryRow kFeatureRows[] = {
+    {"feature.mean_iou_drop", "IoU_drop_feat ↑", +1, 3},
+    {"feature.mean_residual", "residual_feat ↓ (target's before-pixels still segmented as it)", -1, 3},
+    {"feature.mean_iou_before", "IoU_before_feat (segmentation vs object mask, before)", 0, 3},
+    {"feature.mean_iou_after", "IoU_after_feat ↓", -1, 3},
+};
+
 std::string Label(const json& column) { return column.value("label", column.value("name", std::string("?"))); }
 
 // One table row: the value of `key` per column, the best bold when a direction is given.
@@ -68,28 +77,60 @@ std::vector<std::string> MetricRow(const json& columns, const std::string& key, 
   return row;
 }
 
+bool AnyHas(const json& columns, const std::string& key) {
+  return std::any_of(columns.begin(), columns.end(), [&](const json& c) { return c.contains(key); });
+}
+
+// The named rows of `table` present in any column; their keys go into `shown`.
+template <std::size_t N>
+std::vector<std::vector<std::string>> NamedRows(const json& columns, const SummaryRow (&table)[N],
+                                                std::set<std::string>& shown) {
+  std::vector<std::vector<std::string>> rows;
+  for (const SummaryRow& r : table) {
+    shown.insert(r.key);
+    if (AnyHas(columns, r.key)) rows.push_back(MetricRow(columns, r.key, r.name, r.better, r.digits));
+  }
+  return rows;
+}
+
+// The feature table: the named rows, then acc_seg_feat per ξ (higher = better). The feature
+// summary's other numbers (counts, acc before / after, ...) go with "All other metrics".
+std::vector<std::vector<std::string>> FeatureRows(const json& columns, const std::set<std::string>& keys,
+                                                  std::set<std::string>& shown) {
+  std::vector<std::vector<std::string>> rows = NamedRows(columns, kFeatureRows, shown);
+  const std::string acc_seg = "feature.acc_seg.";
+  for (const std::string& key : keys)
+    if (key.rfind(acc_seg, 0) == 0 && !shown.count(key)) {
+      shown.insert(key);
+      rows.push_back(MetricRow(columns, key, "acc_seg_feat ↑ (ξ = " + key.substr(acc_seg.size()) + ")", +1, 3));
+    }
+  return rows;
+}
+
+constexpr const char* kFeatureNote =
+    "<p class=\"note\">Feature metrics: the target segmented in the scene's own rendered feature field "
+    "(nearest prototype, no external segmenter; docs/eval.md) in the before and each after render. "
+    "IoU_drop_feat and acc_seg_feat are the paper's IoU_drop and acc_seg with that segmentation in place of "
+    "GroundedSAM's; residual_feat is the share of the target's before-pixels still segmented as it after "
+    "(0 = nothing recognisable left).</p>\n";
+
 std::string SummarySection(const json& columns) {
   std::vector<std::string> header = {"metric"};
   for (const json& c : columns) header.push_back(c.value("label", std::string("?")));
-  std::vector<std::vector<std::string>> rows, feature_rows, other_rows;
-  std::set<std::string> shown;
-  for (const SummaryRow& r : kSummaryRows) {
-    shown.insert(r.key);
-    if (std::none_of(columns.begin(), columns.end(), [&](const json& c) { return c.contains(r.key); })) continue;
-    rows.push_back(MetricRow(columns, r.key, r.name, r.better, r.digits));
-  }
-  std::set<std::string> keys;
+  std::set<std::string> shown, keys;
+  const std::vector<std::vector<std::string>> rows = NamedRows(columns, kSummaryRows, shown);
   for (const json& c : columns)
     for (const auto& [key, value] : c.items())
-      if (value.is_number() && !shown.count(key)) keys.insert(key);
-  for (const std::string& key : keys) {
-    const bool feature = key.find("feat") != std::string::npos;
-    (feature ? feature_rows : other_rows).push_back(MetricRow(columns, key, key, 0, 4));
-  }
+      if (value.is_number()) keys.insert(key);
+  const std::vector<std::vector<std::string>> feature_rows = FeatureRows(columns, keys, shown);
+  std::vector<std::vector<std::string>> other_rows;
+  for (const std::string& key : keys)
+    if (!shown.count(key)) other_rows.push_back(MetricRow(columns, key, key, 0, 4));
   std::string s = "<h2>Summary</h2>\n" + HtmlTable(header, rows, "summary") +
                   "<p class=\"note\">Bold: the best value of a row. acc_Δdepth: share of the object's pixels "
                   "whose depth changed (1 = the object is gone); residual = 1 − acc_Δdepth.</p>\n";
-  if (!feature_rows.empty()) s += "<h2>Feature metrics</h2>\n" + HtmlTable(header, feature_rows, "summary");
+  if (!feature_rows.empty())
+    s += "<h2>Feature metrics</h2>\n" + HtmlTable(header, feature_rows, "summary") + kFeatureNote;
   if (!other_rows.empty())
     s += "<details><summary>All other metrics of report.json</summary>\n" + HtmlTable(header, other_rows) +
          "</details>\n";
@@ -180,6 +221,18 @@ std::string SrcOf(const json& images, const std::string& key) {
   return images.empty() ? std::string() : UrlPath(images[0].value("src", std::string()));
 }
 
+// " — residual_feat fgs 0.02 · fgs+bk 0.01" from a view's metrics.csv record; empty without feature metrics.
+std::string ResidualFeatText(const json& record, const json& columns) {
+  std::string s;
+  for (const json& c : columns) {
+    const std::string key = c.value("name", std::string()) + "_residual_feat";
+    if (!record.contains(key) || !record[key].is_number()) continue;
+    s += (s.empty() ? " — residual_feat " : " · ") + HtmlEscape(Label(c)) + " " +
+         HtmlNumber(record[key].get<double>(), 2);
+  }
+  return s;
+}
+
 // One view: the pictures side by side, then a wipe between any two of them.
 std::string ViewCard(const json& entry, const json* record, const json& columns, const std::vector<std::string>* flags) {
   const std::string view = entry.value("view", std::string());
@@ -189,6 +242,7 @@ std::string ViewCard(const json& entry, const json* record, const json& columns,
     const double r = record ? Residual(*record, c.value("name", std::string())) : NAN;
     residuals += (residuals.empty() ? "residual " : " · ") + HtmlEscape(Label(c)) + " " + HtmlNumber(r, 2);
   }
+  if (record) residuals += ResidualFeatText(*record, columns);
   std::string s = "<section class=\"view" + std::string(flags ? " flagged" : "") + "\" id=\"view-" +
                   HtmlEscape(UrlPath(view)) + "\">\n<h3>" + HtmlEscape(view) + " <span class=\"note\">" + residuals +
                   "</span>";

@@ -110,10 +110,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   Validate(scene, cameras, columns, object, o);
   const std::size_t n = scene.size(), nc = columns.size();
   EvalResult r;
-  for (const Camera& cam : cameras)  // before, the incremental cache and one "after" per column, at once
-    CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
-                            std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
-                        EstimateRenderBytes(n, cam.width, cam.height) * double(nc + 2));
+  OutputSet staging(o.out_dir, EvalOutputSetOptions(o));  // --out checked before anything is computed
   if (!scene.source_path.empty())  // loaded from a file that may lack columns (in-code scenes have them all)
     for (auto& w : MissingRenderColumns(scene)) r.warnings.push_back(std::move(w));
 
@@ -136,7 +133,20 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
                                : "no SAM segment lists of this column's renders (--sam-after / --sam-refined)"});
   }
 
-  OutputSet staging(o.out_dir, EvalOutputSetOptions(o));
+  // Feature metrics: channels and prototypes once per scene; the renders composite the channels in
+  // the RGB pass (al/eval/feature_eval.hpp).
+  Timer feature_timer;
+  const FeatureScorer features(scene, {&object.labels, object.object_id, &columns[0].removed, &cameras}, o.feature);
+  if (!features.enabled())
+    for (const auto& c : columns) r.skipped.push_back({"iou_drop_feat", c.name, features.skip_reason()});
+  RenderOptions render = o.render;
+  render.features = features.channels();
+  r.seconds_features = feature_timer.Seconds();
+  const int feature_dim = render.features ? int(render.features->cols()) : 0;
+  for (const Camera& cam : cameras)  // before, the incremental cache and one "after" per column, at once
+    CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
+                            std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
+                        EstimateRenderBytes(n, cam.width, cam.height, feature_dim) * double(nc + 2));
   const fs::path out = staging.dir();
   const fs::path images = out / "images";
   if (o.write_images) EnsureDirectory(images);
@@ -203,7 +213,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
       // of the "before" render itself: one compositing pass instead of a second one just for the
       // mask. It agrees with fixtures::SubsetWeight (the synth ground truth) up to float rounding
       // of the projection (tests/fixtures/subset_weight_render_test.cpp). Timed as render.
-      RenderOptions with_share = o.render;
+      RenderOptions with_share = render;
       with_share.weight_subset = &subset;
       renderer = std::make_unique<IncrementalRenderer>(scene, cam, with_share);
       r.seconds_render += t.Seconds();
@@ -227,7 +237,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     // 2. Renders: "before" in full (already done with --labels), each column incrementally from
     // its cache.
     t.Reset();
-    if (!renderer) renderer = std::make_unique<IncrementalRenderer>(scene, cam, o.render);
+    if (!renderer) renderer = std::make_unique<IncrementalRenderer>(scene, cam, render);
     const RenderOutput& before = renderer->before();
     std::vector<RenderOutput> after(nc);
     for (std::size_t c = 0; c < nc; ++c) after[c] = renderer->After(columns[c].removed);
@@ -243,7 +253,8 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     std::vector<metrics::Mask> sam_a;
     const bool has_sam_a = sam_before && sam_before->Load(cam.name, sam_a);
     std::vector<metrics::Depth8Pair> pairs(nc);
-    std::vector<metrics::Mask> changed(nc);
+    std::vector<metrics::Mask> changed(nc), feature_seg(nc);
+    const metrics::Mask feature_seg_before = features.enabled() ? features.Segment(before) : metrics::Mask{};
     for (std::size_t c = 0; c < nc; ++c) {
       ColumnViewMetrics m;
       m.tiles_rendered = after[c].tiles_rendered;
@@ -262,6 +273,10 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
         const bool has_b = sam_cols[c]->Load(cam.name, sam_b);
         if (has_sam_a && has_b) m.sim_sam = metrics::ComputeSimSam(object_gray, sam_a, sam_b, o.sim_sam);
         else ++sam_missing[c];
+      }
+      if (features.enabled()) {
+        feature_seg[c] = features.Segment(after[c]);
+        m.feature = features.Score(object_mask, feature_seg_before, feature_seg[c], cam.name);
       }
       view.columns.push_back(std::move(m));
     }
@@ -297,6 +312,11 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
         picture(columns[c].name + "_depthdiff", columns[c].label + ": depth change",
                 stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_depthdiff.png",
                 DepthDiffImage(changed[c], object_mask));
+      if (features.enabled())
+        for (std::size_t c = 0; c < nc; ++c)
+          picture(columns[c].name + "_featseg", columns[c].label + ": feature segmentation before | after",
+                  stem + (c == 0 ? std::string() : "_" + columns[c].name) + "_featseg.png",
+                  FeatureSegImage(before, after[c], object_mask, feature_seg_before, feature_seg[c]));
       view_images.push_back({{"view", cam.name}, {"images", std::move(pictures)}});
     }
     if (o.export_renders) {
@@ -328,6 +348,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     std::vector<metrics::DepthRecord> d8, df;
     std::vector<double> psnr, sim;
     std::vector<metrics::SemanticRecord> sem;
+    std::vector<metrics::FeatureRecord> feat;
     for (const ViewRecord& v : r.views) {
       if (!v.evaluated) continue;
       const ColumnViewMetrics& m = v.columns[c];
@@ -337,6 +358,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
       if (m.collateral_psnr) psnr.push_back(*m.collateral_psnr);
       s.identical += m.identical;
       if (m.semantic) sem.push_back(*m.semantic);
+      if (m.feature) feat.push_back(m.feature->record);
       if (m.sim_sam) {
         if (m.sim_sam->scored) sim.push_back(m.sim_sam->sim_sam);
         else ++s.sim_sam_dropped;
@@ -346,6 +368,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
     s.depth_float = metrics::SummarizeDepth(df);
     s.collateral_psnr = metrics::ComputeMeanStd(psnr);
     if (run_semantic[c]) s.semantic = metrics::SummarizeSemantic(sem, o.semantic);
+    if (features.enabled()) s.feature = metrics::SummarizeFeature(feat, o.semantic);
     if (run_sam[c]) {
       s.sim_sam = metrics::ComputeMeanStd(sim);
       s.sim_sam_missing = sam_missing[c];
@@ -382,7 +405,8 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   }
   json skipped = json::array();
   for (const auto& s : r.skipped) skipped.push_back({{"metric", s.metric}, {"column", s.column}, {"reason", s.reason}});
-  report["metrics"] = {{"columns", cols}, {"skipped", skipped}};
+  r.feature = features.ToJson();
+  report["metrics"] = {{"columns", cols}, {"skipped", skipped}, {"feature_segmentation", r.feature}};
   json& warnings = report["warnings"];
   if (!warnings.is_array()) warnings = json::array();
   for (const auto& w : r.warnings) warnings.push_back(w);
@@ -404,6 +428,7 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   json& timings = report["timings_s"];
   if (!timings.is_object()) timings = json::object();
   timings["object_masks"] = r.seconds_object_masks;
+  timings["feature_prepare"] = r.seconds_features;
   timings["render"] = r.seconds_render;
   timings["metrics"] = r.seconds_metrics;
   timings["io"] = r.seconds_io;

@@ -78,12 +78,23 @@ struct Frame {
 // Sort + binning (§4), src/render/binning.cpp. The result does not depend on threads.
 void BuildFrame(Frame& frame, int threads);
 
+// Per-Gaussian features for the compositing loop: scene-indexed rows of `dim` floats (null = none).
+struct FeatureInput {
+  const float* rows = nullptr;
+  int dim = 0;
+};
+
 // Composites one tile into out (RASTERIZER.md §5, §7), src/render/composite.cpp. skip (by rank)
 // may be null. subset (by rank) may be null; if set, out.subset_weight (H*W, allocated by the
-// caller) receives the per-pixel sum of alpha*T over the ranks where subset[rank] != 0.
-// Returns the number of (Gaussian, pixel) power evaluations.
+// caller) receives the per-pixel sum of alpha*T over the ranks where subset[rank] != 0. With
+// features.rows set, out.feature (H*W*dim, allocated by the caller) receives sum(alpha*T*f) /
+// max(alpha, 1e-10). Returns the number of (Gaussian, pixel) power evaluations.
 std::uint64_t CompositeTile(const Frame& frame, int tile, const std::uint8_t* skip, const std::uint8_t* subset,
-                            const Eigen::Vector3f& background, bool front_id, RenderOutput& out);
+                            const FeatureInput& features, const Eigen::Vector3f& background, bool front_id,
+                            RenderOutput& out);
+
+// The features of options as a FeatureInput; checks the shape (al::Error).
+FeatureInput FeaturesOf(const RenderOptions& options, std::size_t num_gaussians);
 
 // Allocates the image buffers of out.
 void AllocateOutput(int width, int height, std::size_t num_gaussians, bool front_id, RenderOutput& out);

@@ -16,6 +16,8 @@ using namespace render_internal;
 RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const RenderOptions& options,
                              const std::vector<bool>& exclude) {
   CheckInputs(scene, camera, exclude);
+  const FeatureInput features = FeaturesOf(options, scene.size());
+  const int dim = features.dim;
   const ViewParams view = MakeViewParams(camera);
   Projected p;
   RenderOptions one_thread = options;
@@ -30,11 +32,15 @@ RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const Ren
   RenderOutput out;
   AllocateOutput(camera.width, camera.height, scene.size(), options.compute_front_id, out);
   const int W = camera.width, H = camera.height;
+  out.feature_dim = dim;
+  out.feature.assign(static_cast<std::size_t>(W) * H * dim, 0.0f);
+  std::vector<float> fsum(static_cast<std::size_t>(dim));
   for (int py = 0; py < H; ++py) {
     for (int px = 0; px < W; ++px) {
       const int tx = px / kTile, ty = py / kTile;
       float T = 1.0f, acc[3] = {0, 0, 0}, dsum = 0, inv = 0;
       std::int32_t fid = -1;
+      std::fill(fsum.begin(), fsum.end(), 0.0f);
       for (std::int32_t i : order) {
         if (tx < p.xmin[i] || tx >= p.xmax[i] || ty < p.ymin[i] || ty >= p.ymax[i]) continue;
         const float dx = p.u[i] - static_cast<float>(px), dy = p.v[i] - static_cast<float>(py);
@@ -50,6 +56,7 @@ RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const Ren
         const float weight = alpha * T;
         dsum += weight * p.tz[i];
         inv += weight / p.tz[i];
+        for (int ch = 0; ch < dim; ++ch) fsum[ch] += weight * features.rows[std::size_t(i) * dim + ch];
         if (fid < 0) fid = i;
         T = test_t;
       }
@@ -60,6 +67,7 @@ RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const Ren
       out.depth[idx] = dsum / std::max(a, 1e-10f);
       out.invdepth[idx] = inv;
       if (options.compute_front_id) out.front_id[idx] = fid;
+      for (int ch = 0; ch < dim; ++ch) out.feature[idx * dim + ch] = fsum[ch] / std::max(a, 1e-10f);
     }
   }
   out.radii = p.radius;

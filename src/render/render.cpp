@@ -20,14 +20,16 @@ struct RenderCache {
 namespace {
 
 void CompositeTiles(const Frame& frame, const std::vector<int>* tiles, const std::uint8_t* skip,
-                    const std::uint8_t* subset, const RenderOptions& options, RenderOutput& out) {
+                    const std::uint8_t* subset, const FeatureInput& features, const RenderOptions& options,
+                    RenderOutput& out) {
   const int total = tiles ? static_cast<int>(tiles->size()) : frame.view.grid_x * frame.view.grid_y;
   std::uint64_t evaluations = 0;
   // Tile costs vary by orders of magnitude (list lengths), hence the dynamic schedule.
 #pragma omp parallel for schedule(dynamic, 1) num_threads(ThreadCount(options)) reduction(+ : evaluations)
   for (int k = 0; k < total; ++k)
     evaluations +=
-        CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, subset, options.background, options.compute_front_id, out);
+        CompositeTile(frame, tiles ? (*tiles)[k] : k, skip, subset, features, options.background,
+                      options.compute_front_id, out);
   out.pixel_evaluations = evaluations;
 }
 
@@ -37,6 +39,7 @@ void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& o
   if (options.weight_subset != nullptr && options.weight_subset->size() != scene.size())
     throw Error("weight subset has " + std::to_string(options.weight_subset->size()) + " entries, scene has " +
                 std::to_string(scene.size()) + " Gaussians");
+  const FeatureInput features = FeaturesOf(options, scene.size());
   Timer timer;
   frame.view = MakeViewParams(camera);
   Preprocess(scene, frame.view, options, exclude, frame.proj);
@@ -55,7 +58,11 @@ void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& o
     for (std::size_t r = 0; r < frame.splats.size(); ++r) subset[r] = in[frame.splats[r].id] ? 1 : 0;
     out.subset_weight.assign(static_cast<std::size_t>(camera.width) * camera.height, 0.0f);
   }
-  CompositeTiles(frame, nullptr, nullptr, subset.empty() ? nullptr : subset.data(), options, out);
+  if (features.rows != nullptr) {
+    out.feature_dim = features.dim;
+    out.feature.assign(static_cast<std::size_t>(camera.width) * camera.height * features.dim, 0.0f);
+  }
+  CompositeTiles(frame, nullptr, nullptr, subset.empty() ? nullptr : subset.data(), features, options, out);
   out.seconds_composite = timer.Seconds();
   out.radii = frame.proj.radius;
   out.visible_gaussians = frame.proj.visible;
@@ -136,7 +143,8 @@ RenderOutput IncrementalRenderer::After(const std::vector<bool>& removed) const 
     if (dirty[t]) work.push_back(static_cast<int>(t));
   out.seconds_binning = timer.Seconds();
   timer.Reset();
-  CompositeTiles(frame, &work, skip.data(), nullptr, cache_->options, out);
+  // The feature image (copied with `before`) is recomposited in the same tiles.
+  CompositeTiles(frame, &work, skip.data(), nullptr, FeaturesOf(cache_->options, n), cache_->options, out);
   out.seconds_composite = timer.Seconds();
   out.visible_gaussians = before.visible_gaussians - removed_visible;
   out.excluded_nonfinite = before.excluded_nonfinite - removed_nonfinite;

@@ -137,11 +137,12 @@ std::vector<Camera> PlanViews(const RenderViewsOptions& o, std::size_t gaussians
 
 }  // namespace
 
-double EstimateRenderBytes(std::size_t gaussians, int width, int height) {
+double EstimateRenderBytes(std::size_t gaussians, int width, int height, int feature_channels) {
   const double pixels = double(width) * double(height);
   // Per pixel: float rgb/alpha/depth/invdepth + front id (28 B), 8/16-bit images and their PNG
-  // encodings (~12 B); per Gaussian: projection, sorted splats, rectangles, radii (~150 B).
-  return pixels * 40.0 + double(gaussians) * 150.0;
+  // encodings (~12 B), a float per composited feature channel; per Gaussian: projection, sorted
+  // splats, rectangles, radii (~150 B).
+  return pixels * (40.0 + 4.0 * std::max(0, feature_channels)) + double(gaussians) * 150.0;
 }
 
 RenderViewsResult RenderViewsToFolder(const RenderViewsOptions& o) {

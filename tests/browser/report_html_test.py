@@ -74,6 +74,13 @@ def demo_report(cli, chromium, work, screenshot):
     if r["script"] != "inset(0px 80% 0px 0px)":
         fail(f"the wipe slider did not move the picture: clip-path {r['script']!r}")
     print("demo report.html: wipe slider works")
+    # The demo's scene has semantic features: the page names the feature metrics and shows the
+    # feature segmentation pictures (loaded above with every other image).
+    html = page.read_text(encoding="utf-8")
+    for needle in ("<h2>Feature metrics</h2>", "IoU_drop_feat ↑", "residual_feat ↓", "_featseg.png"):
+        if needle not in html:
+            fail(f"{page}: no {needle!r} although the demo scores the feature metrics")
+    print("demo report.html: feature metrics and feature segmentation shown")
     return out
 
 

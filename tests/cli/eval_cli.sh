@@ -34,6 +34,31 @@ grep -q '"command": "eval"' "$TMP/e/report.json" || fail "report.json lacks comm
 grep -q '"iou_drop"' "$TMP/e/report.json" || fail "report.json does not list iou_drop as skipped"
 ls "$TMP" | grep -q 'eval-tmp' && fail "staging folder left behind"
 
+# Feature metrics with no external input: report, CSV, table, one image per view and column.
+grep -q '"mean_residual"' "$TMP/e/report.json" || fail "report.json lacks the feature metrics"
+grep -q '"feature_segmentation"' "$TMP/e/report.json" || fail "report.json lacks feature_segmentation"
+head -1 "$TMP/e/metrics.csv" | grep -q 'after_residual_feat' || fail "metrics.csv lacks residual_feat"
+grep -q 'residual_feat' "$TMP/e/table.md" || fail "table.md lacks residual_feat"
+grep -q 'resid_ft' "$TMP/out.txt" || fail "eval does not print the feature metrics"
+for v in $views; do
+  for k in featseg refined_featseg; do
+    [ -s "$TMP/e/images/${v}_$k.png" ] || fail "missing images/${v}_$k.png"
+  done
+done
+# Without labels the prototype comes from the removed set (object masks from synth's masks/).
+"$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" \
+  --object-masks "$S/masks" --no-images --quiet --out "$TMP/e2" >/dev/null || fail "eval without labels failed"
+grep -q '"source": "removed set"' "$TMP/e2/report.json" || fail "prototype not from the removed set"
+# Impossible or contradictory feature options: usage errors (exit 1), nothing written.
+printf '\x93NUMPY' > "$TMP/none.npy"
+"$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" --labels "$S/labels.npy" \
+  --prompt-embeddings "$TMP/none.npy" --quiet --out "$TMP/u2" >/dev/null 2>&1
+[ $? -eq 1 ] || fail "--prompt-embeddings without --positive should exit 1"
+"$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" --labels "$S/labels.npy" \
+  --feature-min-sim 2 --quiet --out "$TMP/u3" >/dev/null 2>&1
+[ $? -eq 1 ] || fail "--feature-min-sim 2 should exit 1"
+[ ! -e "$TMP/u2" ] && [ ! -e "$TMP/u3" ] || fail "output written on a usage error"
+
 # The published-mode depth pairs written by eval re-score identically with `al-refine metrics`.
 "$BIN" metrics --dir "$TMP/e" --object-masks masks --depth-before depth/after/before --depth-after depth/after/after \
   --out "$TMP/m" >/dev/null || fail "metrics on eval's depth pairs failed"

@@ -1,6 +1,7 @@
 // End-to-end evaluation on a small hand-built scene: a cone of Gaussians floating in front of a
 // wall, seen by a few cameras. Removing the whole cone must score acc_Δdepth = 1, removing
-// nothing 0; segmentations given as folders drive IoU_drop and sim_SAM; a failing run writes nothing.
+// nothing 0 (and the feature metrics: residual 0 / IoU_post 0 and residual 1 / IoU_drop 0);
+// segmentations given as folders drive IoU_drop and sim_SAM; a failing run writes nothing.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -62,6 +63,9 @@ const BallScene& Ball() {
     sc.sh = RowMatXf::Zero(n, 3);
     sc.sh_degree = 0;
     sc.has_opacity = sc.has_scales = sc.has_rotations = sc.has_f_dc = true;
+    // Semantic features: one direction for the wall, another for the object (4-D, not unit length).
+    sc.features = RowMatXf::Zero(Eigen::Index(n), 4);
+    sc.feature_prefix = "semantic_";
     for (std::size_t i = 0; i < n; ++i) {
       sc.means.row(i) = pos[i].transpose();
       sc.log_scales.row(i).setConstant(std::log(scale[i]));
@@ -69,6 +73,7 @@ const BallScene& Ball() {
       sc.sh(i, 0) = ((obj ? 0.9f : 0.3f) - 0.5f) / kC0;
       sc.sh(i, 1) = ((obj ? 0.2f : 0.5f) - 0.5f) / kC0;
       sc.sh(i, 2) = ((obj ? 0.2f : 0.7f) - 0.5f) / kC0;
+      sc.features.row(Eigen::Index(i)) << (obj ? 2.0f : 0.1f), (obj ? 0.2f : 3.0f), 0.3f, 0.0f;
     }
     for (int v = 0; v < 3; ++v) {
       Camera c;
@@ -140,12 +145,29 @@ TEST(Eval, PerfectRemovalScoresOneEmptyRemovalZero) {
   EXPECT_EQ(r.summaries[0].depth8.acc_delta_depth.mean, 0.0);
   EXPECT_EQ(r.summaries[1].depth8.acc_delta_depth.mean, 1.0);
   EXPECT_EQ(r.summaries[0].identical, 3u);  // empty removal: renders identical outside the object
+  // Feature metrics from the scene's own features (no segmentation folders given).
+  for (const ViewRecord& v : r.views) {
+    ASSERT_TRUE(v.columns[1].feature.has_value()) << v.name;
+    const metrics::FeatureRecord& none = v.columns[0].feature->record;
+    const metrics::FeatureRecord& all = v.columns[1].feature->record;
+    const metrics::FeatureRecord& half = v.columns[2].feature->record;
+    EXPECT_GT(all.semantic.iou_before, 0.9) << v.name;  // the before segmentation finds the object
+    EXPECT_EQ(all.semantic.iou_after, 0.0) << v.name;   // nothing of it after the perfect removal
+    EXPECT_EQ(all.residual, 0.0) << v.name;
+    EXPECT_EQ(none.residual, 1.0) << v.name;             // the empty removal leaves all of it
+    EXPECT_EQ(none.semantic.iou_drop, 0.0) << v.name;
+    EXPECT_GT(half.residual, 0.5) << v.name;             // interleaved half: still mostly covered
+  }
+  ASSERT_TRUE(r.summaries[1].feature.has_value());
+  EXPECT_EQ(r.summaries[1].feature->residual.mean, 0.0);
+  EXPECT_EQ(r.summaries[1].feature->semantic.acc_seg.front().value, 1.0);  // IoU_post < 0.3 in every view
+  EXPECT_EQ(r.summaries[0].feature->semantic.acc_seg.back().value, 0.0);   // IoU_post >= 0.9 in every view
 
   // Outputs of SPEC §6, and the report's view of the same numbers.
   for (const char* f : {"report.json", "metrics.csv", "table.md", "table.tex", "images/v0_before.png",
                         "images/v0_after.png", "images/v0_refined.png", "images/v0_depthdiff.png",
                         "images/v0_added.png", "images/v0_half_added.png", "depth/refined/before/v0.png",
-                        "masks/v0.png"})
+                        "masks/v0.png", "images/v0_featseg.png", "images/v0_refined_featseg.png"})
     EXPECT_TRUE(fs::exists(out / f)) << f;
   const nlohmann::json report = ReadJson(out / "report.json");
   EXPECT_EQ(report["command"], "eval");
@@ -153,6 +175,8 @@ TEST(Eval, PerfectRemovalScoresOneEmptyRemovalZero) {
   EXPECT_EQ(report["metrics"]["columns"][1]["gt"]["f1"], 1.0);
   EXPECT_EQ(report["counts"]["evaluated"], 3);
   EXPECT_EQ(report["metrics"]["skipped"].size(), 6u);  // iou_drop and sim_sam for each column
+  EXPECT_EQ(report["metrics"]["columns"][1]["feature"]["mean_residual"], 0.0);
+  EXPECT_EQ(report["metrics"]["feature_segmentation"]["prototypes"]["source"], "labels");
   std::ifstream csv(out / "metrics.csv");
   std::size_t lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
@@ -185,6 +209,7 @@ BallScene FloatingCone() {
   s.scene.rotations = b.scene.rotations(keep, Eigen::all);
   s.scene.opacity_logits = b.scene.opacity_logits(keep);
   s.scene.sh = b.scene.sh(keep, Eigen::all);
+  s.scene.features = b.scene.features(keep, Eigen::all);
   for (Eigen::Index i : keep) s.labels.push_back(b.labels[std::size_t(i)]);
   s.cameras = b.cameras;
   return s;
@@ -339,16 +364,20 @@ TEST(EvalTable, BestBoldSecondUnderlined) {
   EXPECT_EQ(RankValues({0.861, 0.859, 0.2}, true), (std::vector<int>{1, 1, 2}));  // equal when printed
   Table t;
   t.methods = {"fgs", "fgs+bk", "fgs_cp"};
-  t.rows.push_back({"room-mug", {0.1, 0.3, 0.2}, {0.5, std::nullopt, 0.9}, {0.4, 0.2, 0.3}});
+  t.rows.push_back({"room-mug", {0.1, 0.3, 0.2}, {0.5, std::nullopt, 0.9}, {0.4, 0.2, 0.3},
+                    {0.8, 0.9, 0.95}, {0.2, 0.1, std::nullopt}, {}});
   const std::string md = TableMarkdown(t), tex = TableLatex(t);
-  EXPECT_NE(md.find("| room-mug | 0.10 | **0.30** | <u>0.20</u> | <u>0.50</u> | – | **0.90** | 0.40 | **0.20** | <u>0.30</u> |"),
+  // The paper's groups, then the feature metrics (residual: lower is better).
+  EXPECT_NE(md.find("| room-mug | 0.10 | **0.30** | <u>0.20</u> | <u>0.50</u> | – | **0.90** | 0.40 | **0.20** | "
+                    "<u>0.30</u> | 0.80 | <u>0.90</u> | **0.95** | <u>0.20</u> | **0.10** | – |"),
             std::string::npos)
       << md;
+  EXPECT_NE(md.find("IoU_drop_feat ↑ fgs"), std::string::npos) << md;
   EXPECT_NE(tex.find("room-mug & 0.10 & \\textbf{0.30} & \\underline{0.20} & \\underline{0.50} & -- & \\textbf{0.90}"),
             std::string::npos)
       << tex;
   EXPECT_NE(tex.find("fgs\\_cp"), std::string::npos);
-  EXPECT_NE(tex.find("\\begin{tabular}{lccc|ccc|ccc}"), std::string::npos);
+  EXPECT_NE(tex.find("\\begin{tabular}{lccc|ccc|ccc|ccc|ccc}"), std::string::npos);
   // A footnote on an acc_Δdepth cell: marked in both formats, text escaped per format, long view
   // lists cut.
   DepthTrustNote note;

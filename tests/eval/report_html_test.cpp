@@ -25,15 +25,16 @@ json Report() {
         {"name": "after", "label": "fgs", "num_removed": 10,
          "depth": {"mean_acc_delta_depth": 0.25, "collateral_depth": {"mean": 0.02},
                    "flagged": [{"view": "v1", "flags": ["small_object"]}]},
-         "feature": {"mean_residual": 0.7}},
+         "feature": {"mean_residual": 0.7, "acc_seg": {"0.5": 0.25}}},
         {"name": "bk", "label": "fgs+bk", "num_removed": 12, "added": 2,
          "depth": {"mean_acc_delta_depth": 0.75, "collateral_depth": {"mean": 0.01}, "flagged": []},
-         "feature": {"mean_residual": 0.2}, "iou_drop_feat": 0.4}]}})");
+         "feature": {"mean_residual": 0.2, "acc_seg": {"0.5": 0.5}}, "iou_drop_feat": 0.4}]}})");
 }
 
 json Views() {
   return json::parse(R"([
-    {"view": "v0", "evaluated": 1, "after_acc_delta_depth": 0.5, "bk_acc_delta_depth": 0.9, "bk_trust_flags": ""},
+    {"view": "v0", "evaluated": 1, "after_acc_delta_depth": 0.5, "bk_acc_delta_depth": 0.9, "bk_trust_flags": "",
+     "bk_residual_feat": 0.05},
     {"view": "v1", "evaluated": 1, "after_acc_delta_depth": 0.0, "bk_acc_delta_depth": 0.6, "bk_trust_flags": "dark"}])");
 }
 
@@ -49,8 +50,15 @@ TEST(EvalReportHtml, ShowsEveryPartOfTheReport) {
   EXPECT_NE(html.find("<b>0.750</b>"), std::string::npos);       // best acc_Δdepth bold
   EXPECT_NE(html.find("<b>0.0100</b>"), std::string::npos);      // best collateral depth (lower) bold
   EXPECT_NE(html.find("Feature metrics"), std::string::npos);
-  EXPECT_NE(html.find("feature.mean_residual"), std::string::npos);
+  // Feature metrics by their names, the best bold (residual_feat: lower; acc_seg_feat: higher), and
+  // a feature number the page does not know by name listed as it is.
+  EXPECT_NE(html.find("residual_feat ↓"), std::string::npos);
+  EXPECT_NE(html.find("<b>0.200</b>"), std::string::npos);
+  EXPECT_NE(html.find("acc_seg_feat ↑ (ξ = 0.5)"), std::string::npos);
+  EXPECT_NE(html.find("<b>0.500</b>"), std::string::npos);
+  EXPECT_EQ(html.find("feature.mean_residual"), std::string::npos);
   EXPECT_NE(html.find("iou_drop_feat"), std::string::npos);
+  EXPECT_NE(html.find("residual_feat fgs+bk 0.05"), std::string::npos);  // per view
   EXPECT_NE(html.find("a warning"), std::string::npos);
   EXPECT_NE(html.find("no --sam-before"), std::string::npos);
   EXPECT_NE(html.find("src=\"images/v0%20before.png\""), std::string::npos);  // relative, encoded

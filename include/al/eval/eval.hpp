@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/output_set.hpp"
+#include "al/eval/feature_eval.hpp"
 #include "al/io/camera.hpp"
 #include "al/metrics/depth.hpp"
 #include "al/metrics/semantic.hpp"
@@ -54,6 +55,7 @@ struct EvalOptions {
   metrics::DepthTrustOptions trust;    // per-view trust flags of acc_Δdepth (both modes)
   metrics::SemanticOptions semantic;
   metrics::SimSamOptions sim_sam;
+  FeatureEvalOptions feature;          // feature metrics (IoU_drop_feat, acc_seg_feat, residual_feat)
   std::string seg_before_dir, sam_before_dir;  // segmentations of the "before" renders
   std::string seg_class;               // GroundedSAM JSON class (empty = every instance)
   bool export_renders = false;         // renders/<column>/<view>.png for external segmenters
@@ -74,6 +76,7 @@ struct ColumnViewMetrics {
   bool identical = false;
   std::optional<metrics::SemanticRecord> semantic;
   std::optional<metrics::SimSamResult> sim_sam;
+  std::optional<FeatureViewMetrics> feature;  // when the feature metrics run
   std::size_t tiles_rendered = 0;
 };
 
@@ -92,6 +95,7 @@ struct ColumnSummary {
   std::size_t identical = 0;
   std::optional<metrics::SemanticSummary> semantic;
   std::optional<metrics::MeanStd> sim_sam;
+  std::optional<metrics::FeatureSummary> feature;
   std::size_t sim_sam_dropped = 0, sim_sam_missing = 0;
   std::size_t num_removed = 0;
 };
@@ -107,6 +111,8 @@ struct EvalResult {
   std::vector<std::string> warnings;
   std::size_t evaluated = 0, skipped_empty_object = 0, missing_object_masks = 0;
   double seconds_object_masks = 0, seconds_render = 0, seconds_metrics = 0, seconds_io = 0, seconds_total = 0;
+  double seconds_features = 0;           // feature channels and prototypes (once per scene)
+  nlohmann::json feature;                // FeatureScorer::ToJson(): channels, prototypes (or why skipped)
   nlohmann::json report;                 // exactly what was written to report.json
   std::vector<std::string> outputs;      // files written, relative to out_dir
 };
@@ -121,10 +127,12 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
                    const ObjectSource& object, const EvalOptions& options, const nlohmann::json* report = nullptr);
 
 // ---- Tables in the paper's layout (rows Scene-Object; column groups IoU_drop↑, acc_Δdepth↑,
-// sim_SAM↓, one column per method; per row and group the best value bold, the second underlined).
+// sim_SAM↓, then the feature metrics IoU_drop_feat↑ and residual_feat↓; one column per method; per
+// row and group the best value bold, the second underlined).
 struct TableRow {
   std::string name;
   std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
+  std::vector<std::optional<double>> iou_drop_feat, residual_feat;
   std::vector<int> acc_delta_depth_note;  // per method: footnote number (1-based into Table::notes) or 0
 };
 // Footnote of an acc_Δdepth cell: the views whose value cannot be trusted (metrics::DepthTrust).

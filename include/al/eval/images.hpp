@@ -21,6 +21,13 @@ Image8 DepthDiffImage(const metrics::Mask& changed, const metrics::Mask& object)
 // Returns the number of painted pixels through `painted` (may be null).
 Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, std::size_t* painted = nullptr);
 
+// The feature segmentations of a before/after pair side by side (2W x H): left the "before" render
+// with its target pixels tinted blue, right the "after" render with its target pixels tinted blue
+// and the residual pixels (object ∩ target before ∩ target after) red; the object outline green on
+// both. Renders are dimmed to grey so the colours read.
+Image8 FeatureSegImage(const RenderOutput& before, const RenderOutput& after, const metrics::Mask& object,
+                       const metrics::Mask& target_before, const metrics::Mask& target_after);
+
 // The residual overlay of report.html: `render` with the object's pixels whose depth did not change
 // (object and not changed; `object` resized to the change mask's size with the exact rule) blended
 // 60 % towards red (230, 20, 20): what is left of the object.

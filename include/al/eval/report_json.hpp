@@ -11,7 +11,7 @@ namespace al::eval {
 void AddEvalParams(nlohmann::json& report, const std::vector<EvalColumn>& columns, const ObjectSource& object,
                    const EvalOptions& options);
 
-// {name, label, num_removed, depth (8-bit), depth_float, collateral_psnr, [semantic], [sim_sam]}.
+// {name, label, num_removed, depth (8-bit), depth_float, collateral_psnr, [semantic], [feature], [sim_sam]}.
 nlohmann::json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& summary, const EvalOptions& options);
 
 }  // namespace al::eval

@@ -24,7 +24,18 @@ struct RenderOptions {
   // the T of the image itself; null = not computed, at no cost. Full renders only (Render and
   // IncrementalRenderer::before()); After() and ReferenceRender leave subset_weight empty.
   const std::vector<bool>* weight_subset = nullptr;
+  // Optional (N x D row-major, D in [1, kMaxFeatureChannels], not owned): a per-Gaussian feature
+  // composited with the same blend weights alpha*T as RGB, in the same pass; RenderOutput::feature
+  // receives sum(alpha*T*f) / max(alpha, 1e-10) per pixel (normalised per pixel like the expected
+  // depth; 0 where nothing blended). Null = not computed, at no cost (the compositing loop is the
+  // one without features). Every other output is bit-identical with or without it. An
+  // IncrementalRenderer keeps this pointer for After(): the matrix must outlive the renderer.
+  // For D > kMaxFeatureChannels render a projection (al/render/feature_field.hpp).
+  const RowMatXf* features = nullptr;
 };
+
+// Most feature channels one render composites (64 floats per pixel = a 64 KiB tile accumulator).
+constexpr int kMaxFeatureChannels = 64;
 
 struct RenderOutput {
   int width = 0, height = 0;
@@ -35,6 +46,8 @@ struct RenderOutput {
   std::vector<std::int32_t> front_id;  // H*W scene index of the first blended Gaussian, -1 if none
   std::vector<std::int32_t> radii;  // per scene Gaussian (0 = invisible or excluded)
   std::vector<float> subset_weight; // H*W sum of alpha*T over options.weight_subset; empty if none
+  int feature_dim = 0;              // D of options.features (0 = none)
+  std::vector<float> feature;       // H*W*D pixel-major, see RenderOptions::features; empty if none
   // Statistics.
   std::size_t visible_gaussians = 0, excluded_nonfinite = 0;
   // Finite parameters whose projection overflowed (e.g. log-scale 60): never rendered, counted.
@@ -69,8 +82,8 @@ class IncrementalRenderer {
   IncrementalRenderer(const IncrementalRenderer&) = delete;
   IncrementalRenderer& operator=(const IncrementalRenderer&) = delete;
   const RenderOutput& before() const;
-  // Bit-identical to Render(scene, camera, options, base_exclude OR removed); only tiles whose
-  // lists contain a removed Gaussian are recomposited.
+  // Bit-identical to Render(scene, camera, options, base_exclude OR removed), the feature image
+  // included; only tiles whose lists contain a removed Gaussian are recomposited.
   RenderOutput After(const std::vector<bool>& removed) const;
 
  private:

@@ -33,6 +33,6 @@ RenderViewsResult RenderViewsToFolder(const RenderViewsOptions& options);
 
 // Bytes one render of a scene of `gaussians` at width x height holds at its peak (output images,
 // per-Gaussian projection and tile lists, encoded PNGs): what --max-memory is checked against.
-double EstimateRenderBytes(std::size_t gaussians, int width, int height);
+double EstimateRenderBytes(std::size_t gaussians, int width, int height, int feature_channels = 0);
 
 }  // namespace al
