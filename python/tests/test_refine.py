@@ -58,11 +58,15 @@ def test_indices_and_mask_give_the_same_refinement(synth):
 
 
 def test_table_options_reach_the_library(synth):
+    # Every value differs from its default (restore and centre are on by default).
     r = al.refine(synth.scene, synth.removed["fgs"], k=6, delta=1.0, spatial=False, threshold="percentile:90",
-                  restore=True, kl_smoothing=0.2)
+                  restore=False, kl_smoothing=0.2, grow_rounds=0, centre=False, prior_weight=0.25,
+                  min_segment_share=0.5)
     p = r.report["params"]
     assert (p["k"], p["delta"], p["spatial"], p["threshold"], p["restore"], p["kl_smoothing"]) == \
-        (6, 1.0, False, "percentile:90", True, 0.2)
+        (6, 1.0, False, "percentile:90", False, 0.2)
+    assert (p["grow_rounds"], p["centre"], p["prior_weight"], p["min_segment_share"]) == (0, False, 0.25, 0.5)
+    assert r.report["graph"]["rounds"] == 1
     cp = al.refine(synth.scene, synth.removed["fgs"], solver="cp", cp_it_max=3)
     assert cp.report["params"]["solver_options"] == {"cp_it_max": 3}
 
@@ -70,5 +74,6 @@ def test_table_options_reach_the_library(synth):
 def test_help_teaches_every_table_field():
     doc = al.refine.__doc__
     for field in ("k (", "delta (", "lambda (", "kl_smoothing (", "threshold (", "min_segment_share (",
+                  "restore (on|off, default true)", "grow_rounds (", "centre (", "prior_weight (",
                   "cp_dif_tol (", "pivot ("):
         assert field in doc, field

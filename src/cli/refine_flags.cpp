@@ -34,14 +34,22 @@ void AddGraphFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--spatial", f.spatial, "Spatial weight factor on|off")
       ->check(CLI::IsMember({"on", "off"}))->default_val("on");
   app.add_option("--hops", g.hops, "Candidate growth repetitions")->default_val(1);
+  app.add_option("--grow-rounds", g.grow_rounds, "Grow the candidate set around what the cut added and "
+                 "solve again, at most this many times (0 = fixed candidate set)")
+      ->check(CLI::Range(0, 1000))->capture_default_str();
   app.add_option("--radius-scale", g.radius_scale, "Multiplier of r_i = max exp(scale)")->default_val(1.0);
   app.add_option("--knn-checks", g.knn_checks, "0 = exact kNN; > 0 approximate (FLANN checks)")->default_val(0);
   app.add_option("--kl-smoothing", g.kl_smoothing, "s of the smoothed KL")->default_val(0.1);
+  app.add_option("--centre", f.centre, "Centre semantic features on the scene mean (on|off)")
+      ->check(CLI::IsMember({"on", "off"}))->default_val("on");
+  app.add_option("--prior-weight", g.prior.weight, "Feature prior in the unary: y = (1-w) mask + w q "
+                 "(0 = the mask alone)")->check(CLI::Range(0.0, 1.0))->capture_default_str();
 }
 
 void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--threshold", f.threshold, "Decision: a number tau or percentile:P")->default_val("0.5");
-  app.add_flag("--restore", f.options.decision.restore, "Also let removed Gaussians with p < tau return");
+  app.add_flag("--restore,!--no-restore", f.options.decision.restore,
+               "Let removed Gaussians with p < tau return (default on; --no-restore: add only)");
   app.add_option("--min-segment-share", f.options.decision.min_segment_share,
                  "Segment rule: add only to graph components the method removed at least this share "
                  "of (0 = SPEC 5's plain rule)")
@@ -61,6 +69,7 @@ RefineOptions ToRefineOptions(const RefineFlags& f) {
     o.removed_is = f.removed_is == "remaining" ? RemovedIs::kRemaining : RemovedIs::kRemoved;
   o.graph.delta_mode = f.delta_mode == "cosine" ? DeltaMode::kCosine : DeltaMode::kDistance;
   o.graph.spatial = f.spatial == "on";
+  o.graph.centre_features = f.centre == "on";
   o.decision.rule = ParseDecisionRule(f.threshold);
   if (f.object_id != RefineFlags::kUnset) o.object_id = f.object_id;
   if (!f.solver_options.empty()) {

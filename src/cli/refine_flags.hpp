@@ -17,6 +17,7 @@ struct RefineFlags {
   std::string removed_is;             // "", "removed", "remaining"
   std::string delta_mode = "distance";
   std::string spatial = "on";
+  std::string centre = "on";
   std::string threshold = "0.5";
   std::string solver_options;         // JSON text (only when AddSolverFlags was called)
   int object_id = kUnset;

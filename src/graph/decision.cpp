@@ -13,8 +13,10 @@ namespace al {
 namespace {
 
 // Share of each node's segment (connected component of the graph) that is in R, weighted by the
-// node weights: sum w_v y_v / sum w_v over the segment. Also returns the segment root per node.
-std::vector<double> SegmentShares(const RefineProblem& problem, std::vector<std::int32_t>& root) {
+// node weights: sum w_v [v in R] / sum w_v over the segment (the mask, not the soft observations
+// of the feature prior). Also returns the segment root per node.
+std::vector<double> SegmentShares(const RefineProblem& problem, const std::vector<bool>& removed,
+                                  std::vector<std::int32_t>& root) {
   const std::size_t V = problem.num_nodes();
   root.resize(V);
   std::iota(root.begin(), root.end(), 0);
@@ -40,7 +42,7 @@ std::vector<double> SegmentShares(const RefineProblem& problem, std::vector<std:
   for (std::size_t v = 0; v < V; ++v) {
     root[v] = find(static_cast<std::int32_t>(v));
     const double w = weighted ? problem.node_weights[v] : 1.0;
-    in_r[root[v]] += w * problem.y_remove[v];
+    in_r[root[v]] += removed[static_cast<std::size_t>(problem.node_ids[v])] ? w : 0.0;
     total[root[v]] += w;
   }
   std::vector<double> share(V, 0.0);
@@ -98,10 +100,11 @@ const OptionTable<DecisionOptions>& DecisionOptions::Table() {
   static const auto table =
       OptionTable<DecisionOptions>("decision")
           .Custom(std::move(threshold))
-          .Switch("restore", &DecisionOptions::restore, "also let removed Gaussians with p < tau return")
+          .Flag("restore", &DecisionOptions::restore,
+                "also let removed Gaussians with p < tau return (off = add only)")
           .Real("min_segment_share", &DecisionOptions::min_segment_share, NumericRange::Closed(0, 1),
                 "segment rule: add only to graph components the method removed at least this share of "
-                "(0 = SPEC 5's plain rule)");
+                "(0 = off, SPEC 5's plain rule)");
   return table;
 }
 
@@ -142,7 +145,7 @@ DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProbl
     r.at_threshold += p[v] == r.threshold;
     if (sel && !removed[i] && options.min_segment_share > 0.0) {
       if (share.empty()) {
-        share = SegmentShares(problem, root);
+        share = SegmentShares(problem, removed, root);
         segment_counted.assign(V, 0);
       }
       if (share[v] < options.min_segment_share) {

@@ -11,6 +11,7 @@
 #include "al/core/timer.hpp"
 #include "al/graph/candidates.hpp"
 #include "al/graph/knn.hpp"
+#include "al/graph/prior.hpp"
 
 namespace al {
 namespace {
@@ -36,6 +37,56 @@ std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
   return x;
 }
 
+// Mean of the L2-normalised feature rows of the active Gaussians: a strided sample of at most
+// 65,536 rows (a common component is a property of the whole field, so a sample finds it, and
+// the cost stays bounded on million-Gaussian scenes). Sequential sum: thread-count independent.
+Eigen::VectorXd SceneFeatureMean(Eigen::Ref<const RowMatXf> features, const std::vector<std::uint8_t>& active) {
+  const Eigen::Index N = features.rows(), D = features.cols();
+  const Eigen::Index stride = std::max<Eigen::Index>(1, (N + 65535) / 65536);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(D);
+  std::size_t n = 0;
+  for (Eigen::Index i = 0; i < N; i += stride) {
+    if (!active[std::size_t(i)]) continue;
+    const Eigen::VectorXd f = features.row(i).transpose().cast<double>();
+    const double norm = f.norm();
+    if (norm > 0) sum += f / norm, ++n;
+  }
+  return n ? Eigen::VectorXd(sum / double(n)) : sum;
+}
+
+// The nodes' feature rows as the gate and the prior see them: unit rows, centred on the scene
+// mean and normalised again when asked (zero rows for zero norm, flagged); raw rows (colour).
+RowMatXf NodeFeatures(Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids,
+                      const std::vector<std::uint8_t>& active, const GraphOptions& o,
+                      std::vector<std::uint8_t>& zero_norm, bool& centred) {
+  const std::size_t V = node_ids.size();
+  const Eigen::Index D = features.cols();
+  RowMatXf out(Eigen::Index(V), D);
+  zero_norm.assign(V, 0);
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
+  bool centre = o.normalize_features && o.centre_features;
+  if (centre) mean = SceneFeatureMean(features, active);
+  // All features parallel: centring would leave nothing (and there is nothing to centre away).
+  if (centre && mean.norm() >= 1.0 - 1e-6) centre = false;
+  centred = centre;
+  const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t v = 0; v < vv; ++v) {
+    Eigen::VectorXd f = features.row(node_ids[std::size_t(v)]).transpose().cast<double>();
+    if (o.normalize_features) {
+      double norm = f.norm();
+      if (norm > 0 && centre) {
+        f = f / norm - mean;
+        norm = f.norm();
+      }
+      if (norm > 0) f /= norm;
+      else zero_norm[std::size_t(v)] = 1, f.setZero();
+    }
+    out.row(v) = f.transpose().cast<float>();
+  }
+  return out;
+}
+
 }  // namespace
 
 RowMatXf ColourFeatures(const Scene& scene) {
@@ -49,10 +100,13 @@ RowMatXf ColourFeatures(const Scene& scene) {
 }
 
 GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
-                             const std::vector<bool>& removed, const GraphOptions& options) {
+                             const std::vector<bool>& removed, const GraphOptions& options,
+                             const std::vector<std::uint8_t>* extra_seeds) {
   Timer total;
   const std::size_t N = scene.size();
   const auto n_rows = static_cast<Eigen::Index>(N);
+  if (extra_seeds && extra_seeds->size() != N)
+    throw Error("extra candidate seeds: wrong size", ExitCode::kInternal);
   if (removed.size() != N)
     throw Error("removal mask has " + std::to_string(removed.size()) + " entries, scene has " +
                 std::to_string(N), ExitCode::kBadInput);
@@ -111,7 +165,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     if (!std::isfinite(r)) ok = false;  // exp overflow: no usable sphere
     active[i] = ok;
     radii[i] = r;
-    seeds[i] = removed[i] ? 1 : 0;
+    seeds[i] = removed[i] || (extra_seeds && (*extra_seeds)[i]) ? 1 : 0;
   }
   out.excluded.resize(N);
   for (std::size_t i = 0; i < N; ++i) {
@@ -122,7 +176,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   // 2. Candidates.
   CandidateStats cst;
   const std::vector<std::uint8_t> in_c = GrowCandidates(xyz, radii, active, seeds, options.hops, &cst);
-  st.removed_nodes = cst.seeds;
+  for (std::size_t i = 0; i < N; ++i) st.removed_nodes += removed[i] && active[i];
   st.added_per_hop = cst.added_per_hop;
   st.huge_spheres = cst.huge_spheres;
   RefineProblem& P = out.problem;
@@ -154,22 +208,13 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.knn_tie_retries = knn.tie_retries;
   st.seconds_knn = stage.Seconds();
 
-  // 4. Gate and weights.
+  // 4. Node features, the feature prior, gate and weights.
   stage.Reset();
   const int K = knn.k;
-  const Eigen::Index D = features.cols();
-  std::vector<double> inv_norm(V, 1.0);
-  out.zero_norm.assign(V, 0);
-  if (options.normalize_features) {
-    for (std::size_t v = 0; v < V; ++v) {
-      const double nrm = features.row(P.node_ids[v]).cast<double>().norm();
-      if (nrm > 0.0) inv_norm[v] = 1.0 / nrm;
-      else {
-        out.zero_norm[v] = 1;
-        ++st.zero_norm_features;
-      }
-    }
-  }
+  const RowMatXf nf = NodeFeatures(features, P.node_ids, active, options, out.zero_norm, st.centred);
+  const Eigen::Index D = nf.cols();
+  st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
+  if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
   auto xdist2 = [&](std::size_t u, std::size_t v) {
     double s = 0;
     for (int a = 0; a < 3; ++a) {
@@ -232,14 +277,14 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     e = std::unique(b, e);
     unique_count[u] = e - b;
     std::int64_t w_at = row_start[u];
-    const auto fu = features.row(P.node_ids[u]);
+    const float* fu = nf.row(u).data();
     for (auto* it = b; it != e; ++it) {
       const std::int32_t v = *it;
       if (out.zero_norm[u] || out.zero_norm[v]) continue;
-      const auto fv = features.row(P.node_ids[v]);
+      const float* fv = nf.row(v).data();
       double df2 = 0;
       for (Eigen::Index d = 0; d < D; ++d) {
-        const double t = double(fu[d]) * inv_norm[u] - double(fv[d]) * inv_norm[v];
+        const double t = double(fu[d]) - double(fv[d]);
         df2 += t * t;
       }
       if (!(std::sqrt(df2) <= gate)) continue;
@@ -308,6 +353,8 @@ nlohmann::json GraphStatsToJson(const GraphStats& s) {
           {"sigma_f", s.gate_distance},
           {"sigma_x", s.sigma_x},
           {"sigma_x_source", s.sigma_x_source},
+          {"features_centred", s.centred},
+          {"prior", s.prior.ToJson()},
           {"seconds", {{"candidates", s.seconds_candidates},
                        {"knn", s.seconds_knn},
                        {"edges", s.seconds_edges},

@@ -3,6 +3,21 @@
 #include "al/graph/graph.hpp"
 
 namespace al {
+namespace {
+
+// The prior's weight lives in a nested struct, which a member pointer of the table cannot reach.
+OptionField<GraphOptions> PriorWeightField() {
+  const NumericRange range = NumericRange::Closed(0, 1);
+  OptionField<GraphOptions> f{"prior_weight", OptionType::kReal, range.Text(),
+                              "feature prior in the unary: y = (1 - w) mask + w q (0 = the mask alone)",
+                              false, {}, {}, {}};
+  f.get = [](const GraphOptions& o) { return nlohmann::json(o.prior.weight); };
+  f.set = [](GraphOptions& o, const nlohmann::json& v) { o.prior.weight = v.get<double>(); };
+  f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.weight); };
+  return f;
+}
+
+}  // namespace
 
 const OptionTable<GraphOptions>& GraphOptions::Table() {
   using O = GraphOptions;
@@ -19,7 +34,12 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Int("hops", &O::hops, R::Closed(0, 100), "candidate growth repetitions")
           .Real("radius_scale", &O::radius_scale, R::Above(0), "multiplier of r_i = max exp(scale)")
           .Int("knn_checks", &O::knn_checks, R::AtLeast(0), "0 = exact kNN; > 0 approximate (FLANN checks)")
-          .Real("kl_smoothing", &O::kl_smoothing, R::Open(0, 1), "s of the smoothed KL");
+          .Real("kl_smoothing", &O::kl_smoothing, R::Open(0, 1), "s of the smoothed KL")
+          .Int("grow_rounds", &O::grow_rounds, R::Closed(0, 1000),
+               "grow the candidate set around what the cut added and solve again, at most this many "
+               "times (0 = fixed candidate set)")
+          .Flag("centre", &O::centre_features, "centre semantic features on the scene mean")
+          .Custom(PriorWeightField());
   return table;
 }
 

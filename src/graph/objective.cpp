@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "al/graph/loss.hpp"
@@ -7,7 +8,10 @@ namespace al {
 
 double DataTerm2(double y_remove, double x_remove, double s) {
   const Loss loss{s, 2};
-  return loss.Value(y_remove, x_remove) + loss.Value(1.0 - y_remove, 1.0 - x_remove);
+  const double value = loss.Value(y_remove, x_remove) + loss.Value(1.0 - y_remove, 1.0 - x_remove);
+  // Smoothed KL >= 0 (Gibbs); for y close to x the two terms cancel and rounding can leave
+  // -1e-17, which a max-flow capacity must not be. (The linear loss is negative by design.)
+  return loss.linear() || loss.quadratic() ? value : std::max(0.0, value);
 }
 
 double Objective(const RefineProblem& problem, const std::vector<double>& p) {

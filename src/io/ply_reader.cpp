@@ -192,6 +192,23 @@ std::vector<std::size_t> IndexedColumns(const std::vector<HeaderProperty>& props
   return out;
 }
 
+// "auto" = the standard prefixes (FORMATS.md §2.2); "none"/"" = nothing; "a,b,auto" = in that order.
+std::vector<std::string> FeaturePrefixPreference(const std::string& spec) {
+  std::vector<std::string> out;
+  if (spec.empty() || spec == "none") return out;
+  std::size_t start = 0;
+  while (start <= spec.size()) {
+    const std::size_t comma = std::min(spec.find(',', start), spec.size());
+    const std::string item = spec.substr(start, comma - start);
+    if (item == "auto")
+      for (const char* p : {"semantic_", "obj_dc_", "f_semantic_", "feat_"}) out.emplace_back(p);
+    else if (!item.empty())
+      out.push_back(item);
+    start = comma + 1;
+  }
+  return out;
+}
+
 template <typename T>
 T LoadSwapped(const unsigned char* p, bool swap) {
   T v;
@@ -278,21 +295,19 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   }
   const std::size_t coeffs = static_cast<std::size_t>((scene.sh_degree + 1) * (scene.sh_degree + 1));
 
+  // feature_prefix: one explicit prefix (strict), or a preference list "a,b,..." in which "auto"
+  // stands for the standard prefixes; the first present wins, none present = no features.
   std::vector<std::size_t> feature_cols;
-  if (options.feature_prefix == "auto") {
-    for (const char* prefix : {"semantic_", "obj_dc_", "f_semantic_", "feat_"}) {
-      feature_cols = IndexedColumns(props, prefix, path);
-      if (!feature_cols.empty()) {
-        scene.feature_prefix = prefix;
-        break;
-      }
+  const std::vector<std::string> wanted = FeaturePrefixPreference(options.feature_prefix);
+  for (const std::string& prefix : wanted) {
+    feature_cols = IndexedColumns(props, prefix, path);
+    if (!feature_cols.empty()) {
+      scene.feature_prefix = prefix;
+      break;
     }
-  } else if (options.feature_prefix != "none" && !options.feature_prefix.empty()) {
-    feature_cols = IndexedColumns(props, options.feature_prefix, path);
-    if (feature_cols.empty())
-      throw FileError(path, "no feature properties with prefix '" + options.feature_prefix + "'");
-    scene.feature_prefix = options.feature_prefix;
   }
+  if (feature_cols.empty() && wanted.size() == 1 && options.feature_prefix != "auto")
+    throw FileError(path, "no feature properties with prefix '" + options.feature_prefix + "'");
 
   // Columns the file lacks keep neutral values (the has_* flags say which are real).
   scene.means.setZero(n, 3);

@@ -28,15 +28,20 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
 
 // What a --method preset sets (SPEC §3 table); reported under params.preset.
 struct Preset {
-  std::string features;  // "semantic_", "obj_dc_", "auto" or "colour"
-  RemovedIs removed_is = RemovedIs::kRemoved;
+  // A prefix, a preference list ("obj_dc_,auto": the first present; auto = the standard
+  // prefixes; none present: the colour fallback, with a warning) or "colour".
+  std::string features;
+  // For a subset PLY only: a mask or index list is always the removed set unless --removed-is
+  // says otherwise (GG writes its remaining scene as a PLY, never as a mask).
+  RemovedIs subset_ply_is = RemovedIs::kRemoved;
   bool gc_polarity = false;
 };
 
 Preset PresetFor(const std::string& method) {
   if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false};
-  if (method == "gg") return {"obj_dc_", RemovedIs::kRemaining, false};
-  if (method == "sags") return {"colour", RemovedIs::kRemoved, false};
+  if (method == "gg") return {"obj_dc_,auto", RemovedIs::kRemaining, false};
+  // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
+  if (method == "sags") return {"auto", RemovedIs::kRemoved, false};
   if (method == "gc") return {"colour", RemovedIs::kRemoved, true};
   if (method == "generic") return {"auto", RemovedIs::kRemoved, false};
   throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
@@ -106,6 +111,50 @@ void FinishFeatures(const RefineOptions& o, RefineInputs& in) {
   }
 }
 
+// Says which features a preset chose when the user did not (sags and gg take what the scene has),
+// so the source is never silent.
+void NoteFeatureSource(const RefineOptions& o, const RefineInputs& in, nlohmann::json& report) {
+  if (!in.colour_fallback && o.features.empty() && in.feature_spec != "semantic_")
+    report["warnings"].push_back("--method " + o.method + ": features " + in.feature_source + ", " +
+                                 std::to_string(in.features().cols()) + "-D");
+}
+
+// A removed set above half the scene is almost always a remaining set read the wrong way round.
+void WarnIfMostOfTheScene(const RefineInputs& in, nlohmann::json& report) {
+  const std::size_t n_scene = in.scene->size();
+  if (2 * in.removal.num_removed > n_scene)
+    report["warnings"].push_back(
+        "the removed set holds " + std::to_string(in.removal.num_removed) + " of " + std::to_string(n_scene) +
+        " Gaussians, more than half the scene (read as the " +
+        (in.removed_is == RemovedIs::kRemaining ? "complement of the remaining rows" : "removed rows") +
+        "): check --removed and --removed-is");
+}
+
+GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
+                            const std::vector<std::uint8_t>* extra_seeds) {
+  GraphOptions go = options;
+  go.normalize_features = !inputs.colour_fallback;
+  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
+}
+
+nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<bool>& before,
+                                    const std::vector<bool>& after) {
+  std::size_t added = 0, added_object = 0, misses = 0, restored = 0, restored_background = 0, over = 0;
+  for (std::size_t i = 0; i < before.size(); ++i) {
+    const bool object = truth.labels[i] == truth.target;
+    misses += object && !before[i];
+    over += !object && before[i];
+    if (after[i] && !before[i]) ++added, added_object += object;
+    if (before[i] && !after[i]) ++restored, restored_background += !object;
+  }
+  auto ratio = [](std::size_t a, std::size_t b) { return b ? nlohmann::json(double(a) / double(b)) : nlohmann::json(nullptr); };
+  return {{"added", added}, {"added_object", added_object}, {"precision_added", ratio(added_object, added)},
+          {"misses", misses}, {"misses_recovered", ratio(added_object, misses)},
+          {"restored", restored}, {"restored_background", restored_background},
+          {"precision_restored", ratio(restored_background, restored)},
+          {"over_removed", over}, {"over_removed_restored", ratio(restored_background, over)}};
+}
+
 // In-memory features: the caller's (N, D) float array (float32 borrowed, other float types
 // converted), else the scene's own columns, else the colour fallback.
 void FeaturesFromData(const RefineData& data, RefineInputs& in, nlohmann::json& report) {
@@ -155,7 +204,7 @@ GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann
 
 nlohmann::json PresetJson(const Preset& preset) {
   return {{"features", preset.features},
-          {"removed_is", preset.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
+          {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
           {"gc_polarity", preset.gc_polarity}};
 }
 
@@ -252,9 +301,10 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
   LoadFeatures(o, scene, in, report);
   in.scene = std::make_shared<const Scene>(std::move(scene));
   FinishFeatures(o, in);
+  NoteFeatureSource(o, in, report);
   clock.Done("load_scene");
 
-  in.removed_is = o.removed_is.value_or(preset.removed_is);
+  in.removed_is = o.removed_is.value_or(EndsWith(o.removed, ".ply") ? preset.subset_ply_is : RemovedIs::kRemoved);
   if (derive_fgs) {
     DeriveFgsRemoval(o, in, report);
   } else {
@@ -262,6 +312,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
     AddInputFile(report, "removed", o.removed);
     for (const auto& w : in.removal.warnings) report["warnings"].push_back(w);
   }
+  WarnIfMostOfTheScene(in, report);
   clock.Done("load_removed");
 
   if (!o.labels.empty()) {
@@ -288,9 +339,10 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
   in.feature_spec = o.features.empty() ? preset.features : o.features;
   FeaturesFromData(data, in, report);
   FinishFeatures(o, in);
+  NoteFeatureSource(o, in, report);
   clock.Done("load_scene");
 
-  in.removed_is = o.removed_is.value_or(preset.removed_is);
+  in.removed_is = o.removed_is.value_or(RemovedIs::kRemoved);  // an array is never a subset PLY
   if (derive_fgs) {
     DeriveFgsRemoval(o, in, report);
   } else {
@@ -298,6 +350,7 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
                                      RemovalOptionsFor(o, in, preset));
     for (const auto& w : in.removal.warnings) report["warnings"].push_back(w);
   }
+  WarnIfMostOfTheScene(in, report);
   clock.Done("load_removed");
 
   if (!data.labels.empty()) {
@@ -311,9 +364,39 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
 }
 
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
-  GraphOptions go = options;
-  go.normalize_features = !inputs.colour_fallback;
-  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go);
+  return BuildGraphGrown(inputs, options, nullptr);
+}
+
+GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
+                         const DecisionOptions& decision) {
+  if (options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
+  const std::vector<bool>& removed = inputs.removal.removed;
+  std::vector<std::uint8_t> grown(removed.size(), 0);  // everything added so far
+  GrownSolve r;
+  for (int round = 0;; ++round) {
+    Timer t;
+    r.graph = BuildGraphGrown(inputs, options, round ? &grown : nullptr);
+    r.graph_seconds += t.Seconds();
+    r.rounds = round + 1;
+    r.outcome = SolveAndDecide(inputs, r.graph, options, solver, decision);
+    if (!r.outcome.empty_graph) r.solve_seconds += r.outcome.solver.value("seconds", 0.0);
+    if (r.outcome.empty_graph || options.grow_rounds == 0) break;
+    std::vector<std::size_t> fresh;  // added now, not yet grown around
+    for (std::size_t i = 0; i < removed.size(); ++i)
+      if (r.outcome.refined[i] && !removed[i] && !grown[i]) fresh.push_back(i);
+    // A trickle at the border is not worth another graph: grow only while the round added at
+    // least 0.5 % of the removed count (and at least one Gaussian).
+    if (fresh.empty() || fresh.size() * 200 < inputs.removal.num_removed) break;
+    if (round >= options.grow_rounds) {
+      r.capped = true;
+      break;
+    }
+    for (std::size_t i : fresh) grown[i] = 1;
+  }
+  if (r.capped)
+    r.outcome.warnings.push_back("candidate growth stopped after " + std::to_string(r.rounds) +
+                                 " rounds while the cut was still adding (--grow-rounds)");
+  return r;
 }
 
 SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
@@ -351,7 +434,7 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   out.decision = d.ToJson();
   out.decision["rule"] = decision.rule.ToString();
   out.decision["restore"] = decision.restore;
-  out.message = "refined: " + std::to_string(d.added) + " Gaussians added" +
+  out.message = "refined (features " + inputs.feature_source + "): " + std::to_string(d.added) + " Gaussians added" +
                 (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") +
                 // The segment rule departs from the plain threshold, so say when it acted.
                 (d.held_back > 0 ? ", " + std::to_string(d.held_back) + " held back in " +
@@ -365,6 +448,7 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
 nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
                                        const std::vector<bool>& after) {
   return {{"object_id", truth.target},
+          {"change", RefinementChangeJson(truth, before, after)},
           {"before", ScoresToJson(ScoreRemoval(before, truth.labels, truth.target,
                                                          truth.opacity_logits))},
           {"after", ScoresToJson(ScoreRemoval(after, truth.labels, truth.target,

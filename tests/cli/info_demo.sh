@@ -14,8 +14,10 @@ for f in report.json scene/scene.ply scene/labels.npy refine_bk/report.json refi
   [ -s "$TMP/a/$f" ] || fail "demo wrote no $f"
 done
 ls "$TMP/a/eval/images/" | grep -q '_bk_added.png$' || fail "no pink overlay of the bk refinement"
-grep -q '^fgs+bk ' "$TMP/a.txt" || fail "summary lacks the bk row: $(cat "$TMP/a.txt")"
-grep -q '^fgs+cp ' "$TMP/a.txt" || fail "summary lacks the cp row"
+grep -q '^gc+bk ' "$TMP/a.txt" || fail "summary lacks the bk row: $(cat "$TMP/a.txt")"
+grep -q '^gc+cp ' "$TMP/a.txt" || fail "summary lacks the cp row"
+grep -q 'miss_rec' "$TMP/a.txt" || fail "summary lacks misses recovered"
+grep -q 'prec_add' "$TMP/a.txt" || fail "summary lacks the precision of the added"
 grep -q 'images: ' "$TMP/a.txt" || fail "summary does not say where the images are"
 cmp -s "$TMP/a/scene/scene.ply" "$TMP/b/scene/scene.ply" || fail "demo scene is not deterministic"
 cmp -s "$TMP/a/eval/metrics.csv" "$TMP/b/eval/metrics.csv" || fail "demo metrics are not deterministic"

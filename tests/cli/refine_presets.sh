@@ -49,9 +49,17 @@ done
 [ "$(jget "$T/fgs/report.json" "['params']['preset']['features']")" = semantic_ ] || fail "fgs preset"
 in_n=$(npy_true "$T/s/removed_fgs.npy" count)
 out_n=$(npy_true "$T/fgs/refined.npy" count)
-[ "$out_n" -ge "$in_n" ] || fail "refinement removed fewer ($out_n < $in_n)"
+added=$(jget "$T/fgs/report.json" "['counts']['added']")
+restored=$(jget "$T/fgs/report.json" "['counts']['restored']")
+[ "$out_n" = $((in_n + added - restored)) ] || fail "refined $out_n != removed $in_n + added $added - restored $restored"
 [ "$(jget "$T/fgs/report.json" "['counts']['refined']")" = "$out_n" ] || fail "refined count"
-python3 - "$T/s/removed_fgs.npy" "$T/fgs/refined.npy" <<'PY' || fail "refined is not a superset of removed"
+[ "$(jget "$T/fgs/report.json" "['params']['restore']")" = True ] || fail "restore is the default"
+[ "$(jget "$T/fgs/report.json" "['gt']['change']['added']")" = "$added" ] || fail "gt.change.added"
+# --no-restore: refinement only adds.
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
+  --labels "$T/s/labels.npy" --out "$T/fgs_add" --quiet >/dev/null || fail "fgs --no-restore run"
+[ "$(jget "$T/fgs_add/report.json" "['counts']['restored']")" = 0 ] || fail "--no-restore restored"
+python3 - "$T/s/removed_fgs.npy" "$T/fgs_add/refined.npy" <<'PY' || fail "refined is not a superset of removed"
 import sys
 def m(p):
     b = open(p, 'rb').read(); n = int.from_bytes(b[8:10], 'little'); return b[10 + n:]
@@ -68,6 +76,17 @@ done
   --solver bk --out "$T/gg" --quiet >/dev/null || fail "gg run"
 [ "$(jget "$T/gg/report.json" "['params']['removed_is']")" = remaining ] || fail "gg removed_is"
 [ "$(jget "$T/gg/report.json" "['counts']['removed_input']")" = "$out_n" ] || fail "gg matched count"
+# A mask is the removed set for every preset (never complemented by the gg preset).
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method gg --solver bk --out "$T/ggm" \
+  --quiet >/dev/null 2>"$T/ggm.err" || fail "gg mask run"
+[ "$(jget "$T/ggm/report.json" "['params']['removed_is']")" = removed ] || fail "gg mask removed_is"
+[ "$(jget "$T/ggm/report.json" "['counts']['removed_input']")" = "$in_n" ] || fail "gg mask count"
+grep -q "features semantic_" "$T/ggm.err" || fail "gg without obj_dc_ does not name its features"
+# More than half the scene removed: a warning on stderr and in the report.
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --removed-is remaining --solver bk --k 1 \
+  --delta 0 --out "$T/most" --quiet >/dev/null 2>"$T/most.err" || true
+grep -q "more than half the scene" "$T/most.err" || fail "no warning above half the scene"
+jget "$T/most/report.json" "['warnings']" | grep -q "more than half" || fail "report lacks the half-scene warning"
 
 # SAGS: a removed-subset PLY. Build it as the remaining.ply of an empty-graph run on the complement.
 python3 - "$T/s/removed_fgs.npy" "$T/compl.npy" <<'PY'
@@ -86,7 +105,9 @@ cmp -s <(npy_true "$T/compl.npy") <(npy_true "$T/empty/refined.npy") || fail "em
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/empty/remaining.ply" --method sags --solver bk \
   --out "$T/sags" --quiet >/dev/null || fail "sags run"
 [ "$(jget "$T/sags/report.json" "['counts']['removed_input']")" = "$in_n" ] || fail "sags matched count"
-[ "$(jget "$T/sags/report.json" "['params']['colour_fallback']")" = True ] || fail "sags colour fallback"
+# SAGS has no features of its own: the scene's semantic_* here (colour only without them).
+[ "$(jget "$T/sags/report.json" "['params']['colour_fallback']")" = False ] || fail "sags took colour"
+[ "$(jget "$T/sags/report.json" "['params']['feature_source']")" = "semantic_*" ] || fail "sags feature source"
 
 # GC: float polarity (0 = removed), 5 Gaussians of a 20k scene.
 python3 - "$T/gc.npy" <<'PY'

@@ -32,12 +32,18 @@ void SetEdges(al::RefineProblem& p, const std::vector<std::pair<int, int>>& edge
   for (std::size_t v = 0; v < V; ++v) p.y_remove[v] = R[std::size_t(p.node_ids[v])] ? 1.0 : 0.0;
 }
 
+TEST(Decision, DefaultsRestoreWithoutTheSegmentRule) {
+  const al::DecisionOptions d;
+  EXPECT_TRUE(d.restore);
+  EXPECT_EQ(d.min_segment_share, 0.0);
+}
+
 TEST(Decision, FixedThresholdAddsOnlyUnlessRestore) {
   std::vector<bool> R{true, true, false, false, false, true};
   const auto prob = Nodes({0, 1, 2, 3, 5});
   const std::vector<double> p{1.0, 0.2, 0.5, 0.49, 0.0};
-  al::DecisionOptions plain;  // SPEC §5's rule alone: node 2 has no segment evidence here
-  plain.min_segment_share = 0.0;
+  al::DecisionOptions plain;  // SPEC §5's rule alone (add only)
+  plain.restore = false;
   const auto d = al::ApplyDecision(R, prob, p, plain);
   EXPECT_EQ(d.refined, (std::vector<bool>{true, true, true, false, false, true}));
   EXPECT_EQ(d.added, 1u);
@@ -58,7 +64,9 @@ TEST(Decision, SegmentRuleAddsOnlyToSegmentsMostlyRemoved) {
   auto prob = Nodes({0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10});
   SetEdges(prob, {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {5, 6}, {6, 7}, {8, 9}, {9, 10}}, R);
   const std::vector<double> p(11, 1.0);
-  const auto d = al::ApplyDecision(R, prob, p);
+  al::DecisionOptions rule;
+  rule.min_segment_share = 2.0 / 3.0;
+  const auto d = al::ApplyDecision(R, prob, p, rule);
   EXPECT_TRUE(d.refined[4]);    // A: share 0.8
   EXPECT_FALSE(d.refined[6]);   // B: share 1/3, left as the method left it
   EXPECT_FALSE(d.refined[7]);
@@ -68,20 +76,22 @@ TEST(Decision, SegmentRuleAddsOnlyToSegmentsMostlyRemoved) {
   EXPECT_EQ(d.segments_held_back, 1u);
   EXPECT_EQ(d.selected, 11u);
   EXPECT_EQ(d.ToJson().at("held_back"), 2);
-  // Off: SPEC §5's plain rule adds all four.
+  // Off (the default): SPEC §5's plain rule adds all four.
   al::DecisionOptions off;
-  off.min_segment_share = 0.0;
   const auto e = al::ApplyDecision(R, prob, p, off);
   EXPECT_EQ(e.refined, std::vector<bool>(11, true));
   EXPECT_EQ(e.added, 4u);
   EXPECT_EQ(e.held_back, 0u);
   // Shares are weighted by the node weights: node 4 weighing 4 makes A's share 4/8.
   prob.node_weights[4] = 4.0;
-  const auto f = al::ApplyDecision(R, prob, p);
+  const auto f = al::ApplyDecision(R, prob, p, rule);
   EXPECT_FALSE(f.refined[4]);
   EXPECT_EQ(f.segments_held_back, 2u);
+  // Shares come from the mask, not from soft observations (the feature prior's y).
+  for (double& y : prob.y_remove) y = 0.5;
+  EXPECT_EQ(al::ApplyDecision(R, prob, p, rule).refined, f.refined);
   // Restore is independent of the segment rule; bad shares are usage errors.
-  al::DecisionOptions restore;
+  al::DecisionOptions restore = rule;
   restore.restore = true;
   std::vector<double> q(11, 1.0);
   q[5] = 0.0;  // an R node of B the solver returns

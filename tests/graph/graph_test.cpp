@@ -51,7 +51,14 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
   EXPECT_EQ(p.first_edge.size(), p.num_nodes() + 1);
   EXPECT_TRUE(std::is_sorted(p.node_ids.begin(), p.node_ids.end()));
   for (std::size_t u = 0; u < p.num_nodes(); ++u) {
-    EXPECT_EQ(p.y_remove[u], g.removed[p.node_ids[u]] ? 1.0 : 0.0);
+    // The feature prior (weight 1/2) can make a label neutral, never flip it on its own.
+    if (g.removed[p.node_ids[u]]) {
+      EXPECT_GE(p.y_remove[u], 0.5);
+      EXPECT_LE(p.y_remove[u], 1.0);
+    } else {
+      EXPECT_GE(p.y_remove[u], 0.0);
+      EXPECT_LE(p.y_remove[u], 0.5);
+    }
     for (auto e = p.first_edge[u]; e < p.first_edge[u + 1]; ++e) {
       EXPECT_GT(p.adj_vertices[e], static_cast<std::int32_t>(u));  // no self loop, stored once
       if (e > p.first_edge[u]) {
@@ -90,11 +97,18 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
   const std::size_t h = nonzero.size() / 2;
   const double sigma_x = nonzero.size() % 2 ? nonzero[h] : 0.5 * (nonzero[h - 1] + nonzero[h]);
   EXPECT_NEAR(r.stats.sigma_x, sigma_x, 1e-5 * sigma_x);
+  // Centred features: unit rows minus the scene mean of unit rows (all 3000 rows: below the
+  // sampling stride), normalised again.
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(g.features.cols());
+  for (Eigen::Index i = 0; i < g.features.rows(); ++i)
+    mean += g.features.row(i).cast<double>().transpose().normalized();
+  mean /= double(g.features.rows());
+  auto centred = [&](std::int64_t id) {
+    return Eigen::VectorXd(g.features.row(id).cast<double>().transpose().normalized() - mean).normalized();
+  };
   EdgeMap expected;
   for (auto [u, v] : knn_pairs) {
-    Eigen::VectorXd fu = g.features.row(p.node_ids[u]).cast<double>().transpose();
-    Eigen::VectorXd fv = g.features.row(p.node_ids[v]).cast<double>().transpose();
-    const double df = (fu.normalized() - fv.normalized()).norm();
+    const double df = (centred(p.node_ids[u]) - centred(p.node_ids[v])).norm();
     if (df > o.delta) continue;
     double dx2 = 0;
     for (int a = 0; a < 3; ++a) {
@@ -107,6 +121,20 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
   ExpectSameGraph(Edges(p), expected, 1e-5);
   EXPECT_EQ(r.stats.edges, p.num_edges());
   EXPECT_LT(r.stats.edges, r.stats.edges_knn);  // the gate removed something
+  EXPECT_TRUE(r.stats.centred);
+
+  // SPEC §4 literally (no centring, no prior): y is the mask, the gate uses the unit rows.
+  al::GraphOptions literal = o;
+  literal.centre_features = false;
+  literal.prior.weight = 0.0;
+  const auto lit = al::BuildRefineGraph(g.scene, g.features, g.removed, literal).problem;
+  for (std::size_t u = 0; u < lit.num_nodes(); ++u)
+    EXPECT_EQ(lit.y_remove[u], g.removed[lit.node_ids[u]] ? 1.0 : 0.0);
+  for (auto [e, w] : Edges(lit)) {
+    const double df = (g.features.row(e.first).cast<double>().normalized() -
+                       g.features.row(e.second).cast<double>().normalized()).norm();
+    EXPECT_LE(df, o.delta + 1e-6);
+  }
 }
 
 TEST(Graph, InvariantToPermutationScaleAndThreads) {

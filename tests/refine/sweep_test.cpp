@@ -39,7 +39,7 @@ TEST(SweepGrid, ParsesAxesAndFillsTheRestFromTheBase) {
   EXPECT_EQ(d.k, (std::vector<int>{4}));  // duplicates dropped
   EXPECT_EQ(d.threshold, (std::vector<std::string>{"percentile:95"}));
   EXPECT_EQ(d.solver, (std::vector<std::string>{"bk"}));
-  EXPECT_EQ(d.segment_share, (std::vector<double>{2.0 / 3.0}));  // the base decision's
+  EXPECT_EQ(d.segment_share, (std::vector<double>{0.0}));  // the base decision's (rule off)
   EXPECT_EQ(ParseSweepGrid("segment_share=0,0.5", Base()).size(), 2u);
 }
 
@@ -65,7 +65,7 @@ TEST(SweepGrid, PointsSharingAGraphAreConsecutive) {
   for (const auto& p : points) ids.insert(PointId("s", p));
   EXPECT_EQ(ids.size(), points.size());
   EXPECT_EQ(PointId("s", points[0]),
-            "s|k=4|delta=0.8|hops=1|radius_scale=1.0|lambda=0.5|solver=bk|threshold=0.5|segment_share=0.6666666666666666");
+            "s|k=4|delta=0.8|hops=1|radius_scale=1.0|lambda=0.5|solver=bk|threshold=0.5|segment_share=0.0");
 }
 
 TEST(SweepShard, ParsesAndPartitionsContiguously) {

@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/option_table.hpp"
+#include "al/graph/prior.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
 
@@ -26,12 +27,22 @@ struct GraphOptions {
   double lambda = 1.0;             // edge weight scale (included in edge_weights)
   bool spatial = true;             // multiply weights by exp(−d_x²/σ_x²)
   int hops = 1;                    // candidate growth repetitions
+  // [project] Rounds of candidate growth where the cut keeps adding (refine stages: after each
+  // solve, the candidate set also grows one hop around what was added; stops when the additions
+  // no longer change; 8: docs/refine.md). 0 = the fixed candidate set of SPEC §4.2.
+  int grow_rounds = 8;
   double radius_scale = 1.0;       // r_i = max_k exp(scale_ik) · radius_scale
   int knn_checks = 0;              // 0 = exact kNN; > 0 approximate (FLANN checks)
   double kl_smoothing = 0.1;       // copied into the problem
   // Features: true = L2-normalise rows, zero-norm rows get no edges (semantic features);
   // false = raw Euclidean distance (colour fallback, SPEC §3).
   bool normalize_features = true;
+  // [project, docs/refine.md] Semantic features are centred: normalised, the scene's mean
+  // subtracted, normalised again, so a component all features share (CLIP-like fields: every
+  // pair at cosine ~0.75) does not pass every edge through the gate. false = SPEC §4.4 literally.
+  bool centre_features = true;
+  // [project] The unary's feature prior (al/graph/prior.hpp); weight 0 = y from the mask alone.
+  PriorOptions prior;
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();
@@ -53,6 +64,8 @@ struct GraphStats {
   std::size_t knn_tie_retries = 0;
   std::size_t feature_dim = 0;
   double gate_distance = 0.0;           // distance bound actually applied (= σ_f)
+  bool centred = false;                 // features centred on the scene mean
+  PriorStats prior;                     // the unary's feature prior (weight 0: off)
   double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
   double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;
@@ -67,9 +80,12 @@ struct GraphResult {
 };
 
 // features: N×D rows (scene order); D = 0 is an error (use ColourFeatures). removed: N.
-// Throws al::Error on size mismatches or bad options.
+// extra_seeds (N, optional): more Gaussians the candidate set grows from (candidate growth of
+// the refine stages: what a previous cut added); they are candidates, their observation stays
+// the mask's. Throws al::Error on size mismatches or bad options.
 GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
-                             const std::vector<bool>& removed, const GraphOptions& options = {});
+                             const std::vector<bool>& removed, const GraphOptions& options = {},
+                             const std::vector<std::uint8_t>* extra_seeds = nullptr);
 
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
 RowMatXf ColourFeatures(const Scene& scene);

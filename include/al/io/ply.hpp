@@ -13,7 +13,8 @@ namespace al {
 
 struct PlyReadOptions {
   // Feature columns: "auto" finds the first present of semantic_, obj_dc_, f_semantic_, feat_;
-  // "none" loads no features; otherwise an explicit prefix such as "obj_dc_".
+  // "none" loads no features; an explicit prefix such as "obj_dc_" must be present; a list
+  // "obj_dc_,auto" takes the first present (none present: no features, the caller decides).
   std::string feature_prefix = "auto";
   // Require the columns a renderer needs (opacity, rot_*, f_dc_*); refinement needs only x y z scale_*.
   bool require_render_columns = false;

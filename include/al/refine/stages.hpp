@@ -86,8 +86,25 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
                             const GraphOptions& graph_options, Solver& solver,
                             const DecisionOptions& decision);
 
-// {"object_id", "before": {...}, "after": {...}} with precision/recall/F1/IoU by count and
-// opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...).
+// Builds the graph and solves it. With options.grow_rounds > 0 the candidate set then also grows
+// one hop around every Gaussian the cut added, and the enlarged graph is solved again, until a
+// round adds fewer new Gaussians than 0.5 % of the removed count or the rounds run out (`capped`,
+// a warning). The observations always come from the input mask.
+struct GrownSolve {
+  GraphResult graph;                  // the last graph solved
+  SolveOutcome outcome;
+  int rounds = 1;                     // graphs built and solved
+  bool capped = false;                // still adding when grow_rounds ran out
+  double graph_seconds = 0.0;         // all builds
+  double solve_seconds = 0.0;         // all solves
+};
+GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
+                         const DecisionOptions& decision);
+
+// {"object_id", "before": {...}, "after": {...}, "change": {...}} with precision/recall/F1/IoU by
+// count and opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...); "change" says what the
+// refinement did: added (of them the object: precision_added; misses_recovered = share of the
+// method's misses added) and restored (of them background: precision_restored).
 nlohmann::json ScoreAgainstGroundTruth(const GroundTruth& truth, const std::vector<bool>& before,
                                        const std::vector<bool>& after);
 

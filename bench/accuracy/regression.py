@@ -1,0 +1,80 @@
+#!/usr/bin/python3
+"""The gen_scenes.py half of ctest's accuracy regression (tests/cli/accuracy_gen_scenes.sh; the
+al-refine synth half is tests/refine/refine_accuracy_test.cpp). Small scenes of three styles are
+generated at test time (fixed seeds from the reporting half, 12,000 Gaussians) and refined with the
+default flags, bk and cp; the properties the accuracy bench reports (docs/accuracy.md) must hold:
+
+  every run      F1 lowered by at most 0.01
+  fgs_like       F1 raised on every scene; >= 30 % of the misses recovered on average; precision of
+                 the added >= 0.9 (pooled)
+  gg_like        over-removed Gaussians restored at precision >= 0.9 (pooled); F1 raised on every scene
+  bk vs cp       the same F1 within 0.02 per run
+
+usage: regression.py AL_REFINE GEN_SCENES_PY WORK_DIR
+Exit 0 = pass, 1 = a property failed (each failure printed).
+"""
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import metrics  # noqa: E402
+import runner  # noqa: E402
+
+SCENES = [("d16", 16, "plain", 21), ("d32", 32, "plain", 22), ("clip128", 128, "clip", 23)]
+N = 12000
+MASKS = {"fgs_like": "fgs", "sags_like": "sags", "gg_like": "gg"}
+
+
+def main(al_bin, gen_script, work):
+    os.makedirs(work, exist_ok=True)
+    failures, recs = [], []
+    for style, dim, kind, seed in SCENES:
+        folder = os.path.join(work, f"{style}-{seed}")
+        subprocess.run(["/usr/bin/python3", gen_script, "--out", folder, "--seed", str(seed), "--n-gaussians", str(N),
+                        "--feature-dim", str(dim), "--feature-style", kind], check=True, stdout=subprocess.DEVNULL)
+        data = runner.SceneData(folder)
+        for mask, method in MASKS.items():
+            path = os.path.join(folder, f"removed_{mask}.npy")
+            by_solver = {}
+            for solver in ("bk", "cp"):
+                r = runner.run_al_refine(al_bin, data, path, method, solver, [])
+                name = f"{style}-{seed} {mask} {solver}"
+                if r["status"] == "error":
+                    failures.append(f"{name}: al-refine failed: {r.get('stderr', '')}")
+                    continue
+                r.update(name=name, mask=mask)
+                recs.append(r)
+                by_solver[solver] = r
+                print(f"{name}: F1 {r['f1_before']:.4f} -> {r['f1_after']:.4f}, added {r['added']} "
+                      f"({r['added_true']} object), restored {r['restored']} ({r['restored_true']} background)")
+                if r["dF1"] < -0.01:
+                    failures.append(f"{name}: F1 lowered by {-r['dF1']:.4f}")
+                if mask in ("fgs_like", "gg_like") and not r["raised"]:
+                    failures.append(f"{name}: F1 not raised")
+            if len(by_solver) == 2 and abs(by_solver["bk"]["f1_after"] - by_solver["cp"]["f1_after"]) > 0.02:
+                failures.append(f"{style}-{seed} {mask}: bk and cp differ by more than 0.02 F1")
+    fgs = [r for r in recs if r["mask"] == "fgs_like"]
+    gg = [r for r in recs if r["mask"] == "gg_like"]
+    recovered = float(np.mean([r["misses_recovered"] or 0.0 for r in fgs])) if fgs else 0.0
+    prec_add = sum(r["added_true"] for r in fgs) / max(1, sum(r["added"] for r in fgs))
+    prec_rest = sum(r["restored_true"] for r in gg) / max(1, sum(r["restored"] for r in gg))
+    print(f"fgs_like: misses recovered {recovered:.3f}, precision of the added {prec_add:.3f}; "
+          f"gg_like: precision of the restored {prec_rest:.3f}")
+    if recovered < 0.30:
+        failures.append(f"fgs_like: misses recovered {recovered:.3f} < 0.30")
+    if prec_add < 0.9:
+        failures.append(f"fgs_like: precision of the added {prec_add:.3f} < 0.9")
+    if prec_rest < 0.9:
+        failures.append(f"gg_like: precision of the restored {prec_rest:.3f} < 0.9")
+    for f in failures:
+        print("FAIL " + f)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    sys.exit(main(*sys.argv[1:]))

@@ -1,0 +1,56 @@
+// The feature prior of the unary term [project, docs/refine.md]. The removal mask is the only
+// evidence of which object the user asked for, but it is noisy; the features say where it is
+// probably wrong. Each candidate's observation becomes
+//   y_v = (1 − w)·mask_v + w·q_v,   q_v ∈ [0, 1]: does v's feature group say "removed"?
+// so at w = 1/2 a Gaussian whose feature agrees with the mask keeps a firm label (y = 1 or 0) and
+// one whose feature disagrees becomes neutral (y = 1/2): its neighbours in the graph decide.
+// Features alone never flip a label.
+//
+// q_v: the candidates' unit features are projected on the direction that separates the removed
+// candidates from the kept ones (mean_R − mean_kept); a two-Gaussian mixture is fitted to that
+// projection by EM (started from the mask), giving each candidate's probability of belonging to
+// the upper ("object") group. Each group's removal rate (its share of removed candidates) is the
+// mask's verdict on it, and a label is doubted only where the group's majority disagrees (the
+// doubt fades in over a short range of removal rates, never a step: prior.cpp):
+//  - a removed Gaussian only if its group is the lower one, the method kept at least two thirds
+//    of that group (GG's hull takes part of the table top: restore it) and its projection lies
+//    below the removed set's own spread; a group the method took whole (a look-alike it grabbed,
+//    an object part whose features are off) is not second-guessed;
+//  - a kept Gaussian only if it belongs to the upper group, the method mostly removed that group,
+//    and its projection lies within the removed set's own spread.
+// "Within the spread": a ramp from 0 at median − 2σ to 1 at the median of the removed
+// candidates' projections (σ = 1.4826·MAD, a robust standard deviation).
+// Everything is relative to the scene, so neither the feature dimension nor a component all
+// features share changes the prior.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "al/scene/scene.hpp"
+
+namespace al {
+
+struct PriorOptions {
+  double weight = 0.5;  // w in [0, 1]; 0 = the mask alone (SPEC §4.7)
+  void Check() const;   // throws al::Error (usage) outside [0, 1]
+};
+
+struct PriorStats {
+  double weight = 0.0;
+  double mean_lower = 0.0, mean_upper = 0.0;  // the mixture's groups (projections)
+  double sd_lower = 0.0, sd_upper = 0.0;
+  double removal_rate_lower = 0.0, removal_rate_upper = 0.0;  // share of each group in R
+  double median_removed = 0.0, sigma_removed = 0.0;           // of the removed candidates
+  std::size_t removed_doubted = 0;  // removed candidates with q < 1/2
+  std::size_t kept_doubted = 0;     // kept candidates with q > 1/2
+  nlohmann::json ToJson() const;
+};
+
+// features: V×D unit rows (zero rows = no evidence: y = mask); mask: V in {0, 1}. Returns y (V).
+// With no removed or no kept candidate the prior has nothing to learn from: y = mask.
+std::vector<double> FeaturePrior(const RowMatXf& features, const std::vector<double>& mask,
+                                 const PriorOptions& options, PriorStats* stats = nullptr);
+
+}  // namespace al
