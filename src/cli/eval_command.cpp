@@ -90,6 +90,10 @@ class EvalCommand : public Command {
     o_.seg_before_dir = seg_before_;
     o_.sam_before_dir = sam_before_;
     o_.seg_class = seg_class_;
+    o_.input_paths = {scene_, removed_, cameras_, object_masks_, labels_, seg_after_, sam_after_};
+    for (const auto* list : {&refined_, &seg_refined_, &sam_refined_})
+      for (const auto& p : *list) o_.input_paths.push_back(eval::SplitNamedPath(p).second);
+    { OutputSet preflight(o_.out_dir, eval::EvalOutputSetOptions(o_)); }  // --out checked before loading
 
     nlohmann::json report = NewReport("eval");
     Timer t;
@@ -158,6 +162,7 @@ class EvalCommand : public Command {
     report["timings_s"] = {{"load_scene", load_scene_s}, {"load_inputs", load_inputs_s}};
     const eval::EvalResult r = eval::RunEval(scene, views, columns, object, o_, &report);
 
+    for (const auto& w : r.report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
     const auto& cols = r.report["metrics"]["columns"];
     std::printf("eval %s: %zu of %zu views evaluated (%zu without the object)\n", row.c_str(), r.evaluated,
                 views.size(), r.skipped_empty_object + r.missing_object_masks);

@@ -13,9 +13,12 @@
 #include "al/core/timer.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/images.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/eval/output.hpp"
 #include "al/eval/records.hpp"
 #include "al/eval/report_html.hpp"
+#include "al/io/ply.hpp"
+#include "al/render/render_views.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
 #include "al/metrics/removal_scores.hpp"
@@ -107,6 +110,9 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   Validate(scene, cameras, columns, object, o);
   const std::size_t n = scene.size(), nc = columns.size();
   EvalResult r;
+  OutputSet staging(o.out_dir, EvalOutputSetOptions(o));  // --out checked before anything is computed
+  if (!scene.source_path.empty())  // loaded from a file that may lack columns (in-code scenes have them all)
+    for (auto& w : MissingRenderColumns(scene)) r.warnings.push_back(std::move(w));
 
   // Which optional metrics can run, and why not (SPEC §6: the report says what was skipped).
   std::vector<bool> run_semantic(nc), run_sam(nc);
@@ -136,8 +142,11 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   RenderOptions render = o.render;
   render.features = features.channels();
   r.seconds_features = feature_timer.Seconds();
-
-  StagedOutput staging(o.out_dir);
+  const int feature_dim = render.features ? int(render.features->cols()) : 0;
+  for (const Camera& cam : cameras)  // before, the incremental cache and one "after" per column, at once
+    CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
+                            std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
+                        EstimateRenderBytes(n, cam.width, cam.height, feature_dim) * double(nc + 2));
   const fs::path out = staging.dir();
   const fs::path images = out / "images";
   if (o.write_images) EnsureDirectory(images);
@@ -424,10 +433,8 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   timings["metrics"] = r.seconds_metrics;
   timings["io"] = r.seconds_io;
   timings["eval_total"] = r.seconds_total;
-  WriteReport(out, report);
   WriteFileAtomically(out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), view_images));
-  staging.Commit();
-  r.report = std::move(report);
+  r.report = staging.Commit(std::move(report));
   return r;
 }
 

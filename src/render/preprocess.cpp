@@ -144,7 +144,14 @@ void Preprocess(const Scene& scene, const ViewParams& view, const RenderOptions&
     // 3D covariance: M = S * R (glm column-major), Sigma = M^T M.
     float qw = scene.rotations(i, 0), qx = scene.rotations(i, 1), qy = scene.rotations(i, 2),
           qz = scene.rotations(i, 3);
-    const float qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+    float qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+    if (!std::isfinite(qn)) {
+      // Finite components whose squares overflow (|q| > 1.8e19): scale down first. Only here, so
+      // every other quaternion takes exactly torch's arithmetic (parity).
+      const float big = std::max(std::max(std::abs(qw), std::abs(qx)), std::max(std::abs(qy), std::abs(qz)));
+      qw /= big; qx /= big; qy /= big; qz /= big;
+      qn = std::sqrt(qw * qw + qx * qx + qy * qy + qz * qz);
+    }
     const float qd = std::max(qn, 1e-12f);  // torch.nn.functional.normalize eps
     qw /= qd; qx /= qd; qy /= qd; qz /= qd;
     const float s[3] = {mod * std::exp(scene.log_scales(i, 0)), mod * std::exp(scene.log_scales(i, 1)),
