@@ -203,9 +203,10 @@ int SolveReducedImpl(const ReducedProblem& rp, const PfdrOptions& opt, std::vect
   double dif_rcd = opt.dif_rcd;
   const int check = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(opt.it_max))));
   const int threads = opt.num_threads > 0 ? opt.num_threads : omp_get_max_threads();
-  // Three barriers per iteration cost a few microseconds; below a few thousand unknowns they
-  // outweigh the split work.
-  const bool par = rV * D + static_cast<std::int64_t>(nE) > 4000;
+  // Three barriers per iteration: a few microseconds each on an idle machine, but up to a time
+  // slice each when another process holds a core (docs/reliability.md, bench/contention). Below
+  // ~50k unknowns (~0.3 ms of work per iteration) running serially costs less than the barriers.
+  const bool par = rV * D + static_cast<std::int64_t>(nE) > 50000;
   int it = 0;
   while (it < opt.it_max) {
     PfdrIteration<kD>(rp, opt, rp.loss, ends, st, X, threads, par);

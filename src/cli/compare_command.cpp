@@ -13,6 +13,7 @@
 #include "al/graph/problem_io.hpp"
 #include "al/io/npy.hpp"
 #include "al/refine/compare.hpp"
+#include "al/refine/refine.hpp"
 #include "al/refine/stages.hpp"
 #include "src/cli/command.hpp"
 #include "src/cli/refine_flags.hpp"
@@ -109,6 +110,13 @@ class CompareCommand : public Command {
       };
     }
 
+    OutputSetOptions so = RefineOutputSetOptions(o);
+    so.command = "compare";
+    so.planned = {"compare.csv", "compare.json", "tradeoff.png", "tradeoff.dat", "report.json"};
+    OutputSet set(o.out_dir, so);
+    OutputSetOptions export_options("export-problem", so.inputs);
+    export_options.flag = "--export-problem";
+    if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, export_options);
     nlohmann::json report = NewReport("compare");
     RefineInputs in = LoadRefineInputs(o, report);
     Timer t;
@@ -124,8 +132,7 @@ class CompareCommand : public Command {
     report["timings_s"]["solvers"] = t.Seconds();
     for (const auto& w : r.warnings) report["warnings"].push_back(w);
 
-    const fs::path out(o.out_dir);
-    EnsureDirectory(out);
+    const fs::path out = set.dir();
     t.Reset();
     WriteCompareTables(out, r);
     const nlohmann::json chart = r.empty_graph ? nlohmann::json{{"drawn", false}, {"message", "empty graph"}}
@@ -171,14 +178,14 @@ class CompareCommand : public Command {
     report["chart"] = chart;
     report["message"] = r.message;
     report["timings_s"]["total"] = total.Seconds();
-    WriteReport(out, report);
+    set.Commit(report);
 
     if (r.empty_graph) {
       std::cerr << r.message << "\n";
       return static_cast<int>(ExitCode::kEmptyGraph);
     }
     PrintTable(r);
-    std::cout << "wrote " << (out / "compare.csv").string() << ", compare.json, "
+    std::cout << "wrote " << (set.out() / "compare.csv").string() << ", compare.json, "
               << (chart["drawn"].get<bool>() ? "tradeoff.png, " : "") << "report.json\n";
     return 0;
   }
@@ -186,16 +193,21 @@ class CompareCommand : public Command {
  private:
   // The problem once, then one p per run (p_<id>.npy) and solutions.json naming them.
   static void ExportAll(const RefineOptions& o, const GraphResult& graph, const CompareResult& r) {
-    ExportProblem(graph.problem, nullptr, o.export_problem_dir, o.graph.lambda);
+    OutputSetOptions so("export-problem", RefineOutputSetOptions(o).inputs);
+    so.flag = "--export-problem";
+    OutputSet set(o.export_problem_dir, so);
+    const fs::path dir = set.dir();
+    ExportProblem(graph.problem, nullptr, dir.string(), o.graph.lambda);
     nlohmann::json sol = nlohmann::json::array();
     for (std::size_t i = 0; i < r.rows.size(); ++i) {
       const std::string file = "p_" + r.runs[i].id + ".npy";
-      WriteNpy((fs::path(o.export_problem_dir) / file).string(), r.p[i],
+      WriteNpy((dir / file).string(), r.p[i],
                {static_cast<std::int64_t>(r.p[i].size())});
       sol.push_back({{"id", r.runs[i].id}, {"solver", r.runs[i].solver}, {"options", r.runs[i].options},
                      {"objective", r.rows[i]["objective"]}, {"file", file}});
     }
-    WriteFileAtomically(fs::path(o.export_problem_dir) / "solutions.json", sol.dump(2) + "\n");
+    WriteFileAtomically(dir / "solutions.json", sol.dump(2) + "\n");
+    set.Commit(NewReport("compare --export-problem"));
   }
 
   static void PrintTable(const CompareResult& r) {

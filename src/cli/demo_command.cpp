@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <regex>
 
-#include "al/core/atomic_file.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/error.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
@@ -44,18 +44,22 @@ class DemoCommand : public Command {
     if (!std::regex_match(resolution_, m, re)) throw Error("demo: --resolution must look like 320x240", ExitCode::kUsage);
     synth_.width = std::stoi(m[1].str());
     synth_.height = std::stoi(m[2].str());
-    const fs::path out(out_), scene_dir = out / "scene";
+    OutputSetOptions so;
+    so.command = "demo";
+    so.planned = {"scene", "refine_bk", "refine_cp", "eval", "report.json"};
+    OutputSet set(out_, so);
+    // Written into the staging folder; the commit renames it to --out (and fixes nested reports' paths).
+    const fs::path out = set.dir(), final_out = set.out(), scene_dir = out / "scene";
     Timer total, t;
 
     // The page to open first: everything below in one place (written by eval at the end).
-    const std::string page = fs::absolute(out / "eval" / "report.html").lexically_normal().string();
+    const std::string page = (final_out / "eval" / "report.html").string();
     std::printf("report: %s\n", page.c_str());
     // 1. The scene, its ground truth, object masks and the simulated removals.
     std::printf("demo: generating a %s scene with %zu Gaussians, %d views %dx%d ...\n", synth_.preset.c_str(),
                 synth_.num_gaussians, synth_.num_views, synth_.width, synth_.height);
     std::fflush(stdout);
-    const fixtures::SynthScene synth = fixtures::Synthesize(synth_);
-    fixtures::WriteSynthScene(synth, scene_dir.string(), true);
+    const fixtures::SynthScene synth = fixtures::SynthesizeToFolder(synth_, scene_dir.string()).synth;
     const double synth_s = t.Seconds();
 
     // 2. Refine the GC removal with both solvers.
@@ -154,12 +158,13 @@ class DemoCommand : public Command {
     std::printf("features: IoU_drop_ft = drop of the target's IoU in the scene's own rendered feature field, "
                 "resid_ft = share of its before-pixels still segmented as it after (lower = less left)\n");
     std::printf("open first: %s (summary, every view side by side, residual and added overlays)\n", page.c_str());
+    const fs::path shown(out_);
     std::printf("images: %s/  (VIEW_before/_after/_bk/_cp.png, _depthdiff.png, _bk_added.png = pink: added by bk, "
                 "cyan: restored, _featseg.png = feature segmentation before | after, red = residual)\n",
-                (out / "eval" / "images").string().c_str());
-    std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (out / "eval" / "table.md").string().c_str(),
-                (out / "eval" / "table.tex").string().c_str(), scene_dir.string().c_str(),
-                (out / "refine_bk").string().c_str(), (out / "refine_cp").string().c_str());
+                (shown / "eval" / "images").string().c_str());
+    std::printf("tables: %s, %s; scene: %s; refinements: %s, %s\n", (shown / "eval" / "table.md").string().c_str(),
+                (shown / "eval" / "table.tex").string().c_str(), (shown / "scene").string().c_str(),
+                (shown / "refine_bk").string().c_str(), (shown / "refine_cp").string().c_str());
 
     nlohmann::json report = NewReport("demo");
     report["params"] = {{"out", out_},
@@ -177,11 +182,11 @@ class DemoCommand : public Command {
     report["summary"] = summary;
     report["timings_s"] = {{"synth", synth_s}, {"refine_bk", runs[0].seconds}, {"refine_cp", runs[1].seconds},
                            {"eval", eval_s}, {"total", total.Seconds()}};
-    report["outputs"] = {{"scene", scene_dir.string()},
-                         {"refine_bk", (out / "refine_bk").string()},
-                         {"refine_cp", (out / "refine_cp").string()},
-                         {"eval", (out / "eval").string()}, {"report_html", page}};
-    WriteReport(out, report);
+    report["outputs"] = {{"scene", (final_out / "scene").string()},
+                         {"refine_bk", (final_out / "refine_bk").string()},
+                         {"refine_cp", (final_out / "refine_cp").string()},
+                         {"eval", (final_out / "eval").string()}, {"report_html", page}};
+    set.Commit(report);
     return 0;
   }
 

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/inputs.hpp"
 #include "src/cli/background_flag.hpp"
@@ -75,11 +76,15 @@ class EvalCommand : public Command {
     o_.depth_holes = *metrics::DepthHolesFromName(holes_);
     o_.write_images = !no_images_;
     o_.progress = !quiet_;
+    files_.Check();
+    o_.input_paths = files_.Paths();
+    { OutputSet preflight(o_.out_dir, eval::EvalOutputSetOptions(o_)); }  // --out checked before loading
     eval::EvalInputs in = eval::LoadEvalInputs(files_);
     o_.row_name = in.row;
     o_.feature = ToFeatureOptions(feature_, in.scene);
     in.report["params"].update({{"bg", bg_}, {"threads", o_.render.num_threads}, {"no_images", no_images_}});
     const eval::EvalResult r = eval::RunEval(in.scene, in.views, in.columns, in.object, o_, &in.report);
+    for (const auto& w : r.report["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
     std::cout << r.BriefReport(in.row, in.views.size());
     std::printf("wrote %s/{report.json, report.html, metrics.csv, table.md, table.tex, images/}\n", o_.out_dir.c_str());
     return 0;

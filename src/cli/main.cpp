@@ -4,9 +4,12 @@
 #include <cstring>
 #include <iostream>
 #include <map>
+#include <new>
 
 #include "al/core/error.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/openmp_defaults.hpp"
+#include "src/cli/run_policy.hpp"
 
 namespace al::cli {
 
@@ -35,6 +38,7 @@ std::vector<std::string> WithDefaultSubcommand(int argc, char** argv,
 
 int main(int argc, char** argv) {
   using namespace al::cli;
+  ApplyOpenMpDefaults(argv);
   CLI::App app{
       "al-refine: refine and score object removals in 3D Gaussian Splatting scenes.\n"
       "Without a subcommand, flags are passed to `refine`. Every subcommand writes report.json.\n"
@@ -49,9 +53,12 @@ int main(int argc, char** argv) {
   std::sort(commands.begin(), commands.end(),
             [](const auto& a, const auto& b) { return a->Name() < b->Name(); });
   std::vector<CLI::App*> subs;
+  std::string max_memory;
+  bool force = false;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     CLI::App* sub = app.add_subcommand(commands[i]->Name(), commands[i]->Description());
     commands[i]->Setup(*sub);
+    AddRunPolicyFlags(*sub, max_memory, force);
     subs.push_back(sub);
     names[commands[i]->Name()] = int(i);
   }
@@ -69,16 +76,19 @@ int main(int argc, char** argv) {
     std::cout << app.help();
     return static_cast<int>(al::ExitCode::kUsage);
   }
+  std::set_new_handler(OnOutOfMemory);
   for (std::size_t i = 0; i < subs.size(); ++i) {
     if (!subs[i]->parsed()) continue;
     try {
+      ApplyRunPolicy(max_memory, force);
       return commands[i]->Run();
     } catch (const al::Error& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": error: " << e.what() << "\n";
       return static_cast<int>(e.code());
     } catch (const std::bad_alloc&) {
-      std::cerr << "al-refine " << commands[i]->Name() << ": error: out of memory\n";
-      return static_cast<int>(al::ExitCode::kInternal);
+      std::cerr << "al-refine " << commands[i]->Name()
+                << ": error: out of memory (the input is too large for this machine; see --max-memory)\n";
+      return static_cast<int>(al::ExitCode::kBadInput);
     } catch (const std::exception& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": internal error: " << e.what() << "\n";
       return static_cast<int>(al::ExitCode::kInternal);

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/metrics/directory.hpp"
 #include "src/cli/command.hpp"
@@ -55,8 +56,9 @@ class MetricsCommand : public Command {
     o_.dir = dir_;
     o_.depth_holes = *metrics::DepthHolesFromName(holes_);
     const fs::path out = out_.empty() ? fs::path(dir_) / "al_metrics" : fs::path(out_);
+    OutputSet set(out, OutputSetOptions("metrics", {dir_}, {"semantic.json", "depth.json", "sam.json", "collateral.json", "report.json"}));
     const metrics::DirectoryMetricsResult r = metrics::EvaluateDirectory(o_);
-    const auto files = metrics::WriteDirectoryMetrics(r, out);
+    const auto files = metrics::WriteDirectoryMetrics(r, set.dir());
 
     nlohmann::json report = NewReport("metrics");
     report["params"] = o_.ToJson();
@@ -65,10 +67,10 @@ class MetricsCommand : public Command {
     report["counts"] = r.counts;
     report["metrics"] = metrics::SummaryJson(r);
     report["outputs"] = nlohmann::json::array();
-    for (const auto& f : files) report["outputs"].push_back(f.string());
+    for (const auto& f : files) report["outputs"].push_back((out / f.filename()).string());
     for (const auto& w : r.warnings) report["warnings"].push_back(w);
     report["timings_s"]["total"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    WriteReport(out, report);
+    set.Commit(report);
 
     const auto& m = report["metrics"];
     if (m.contains("semantic"))

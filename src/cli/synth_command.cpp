@@ -5,8 +5,6 @@
 
 #include "al/core/error.hpp"
 #include "al/core/progress.hpp"
-#include "al/core/report.hpp"
-#include "al/core/timer.hpp"
 #include "al/fixtures/synth.hpp"
 #include "src/cli/command.hpp"
 
@@ -50,25 +48,10 @@ class SynthCommand : public Command {
         bar->Step(std::size_t(f * 1000));
       };
     }
-    Timer total;
-    fixtures::SynthScene synth = fixtures::Synthesize(options_);
+    const fixtures::SynthFolderResult r = fixtures::SynthesizeToFolder(options_, out_);
     if (bar) bar->Finish();
-    Timer t_write;
-    fixtures::WriteSynthScene(synth, out_, true);
-    nlohmann::json report = NewReport("synth");
-    report["params"] = {{"preset", options_.preset},        {"gaussians", options_.num_gaussians},
-                        {"seed", options_.seed},            {"feature_dim", options_.feature_dim},
-                        {"views", options_.num_views},      {"resolution", resolution_},
-                        {"sh_degree", options_.sh_degree},  {"masks", options_.compute_masks}};
-    report["counts"]["gaussians"] = synth.labels.size();
-    report["counts"]["objects"] = synth.stats["objects"];
-    report["target"] = synth.stats["target"];
-    if (synth.stats.contains("masks")) report["counts"]["masks"] = synth.stats["masks"];
-    report["simulators"] = synth.stats.value("simulators", nlohmann::json::object());
-    report["timings_s"] = synth.stats["timings_s"];
-    report["timings_s"]["write"] = t_write.Seconds();
-    report["timings_s"]["total"] = total.Seconds();
-    WriteReport(out_, report);
+    const fixtures::SynthScene& synth = r.synth;
+    const nlohmann::json& report = r.report;
     std::printf("synth: %s, %zu Gaussians, target %d (%s, %zu Gaussians) -> %s\n", options_.preset.c_str(),
                 synth.labels.size(), synth.target_id, synth.target_name.c_str(),
                 synth.objects[std::size_t(synth.target_id)].count, out_.c_str());

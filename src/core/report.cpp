@@ -3,6 +3,7 @@
 #include <openssl/evp.h>
 #include <sys/resource.h>
 
+#include <algorithm>
 #include <array>
 #include <fstream>
 
@@ -22,15 +23,17 @@ nlohmann::json NewReport(const std::string& command) {
           {"warnings", nlohmann::json::array()}};
 }
 
-std::string Sha256File(const std::filesystem::path& path) {
+std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FileError(path.string(), "cannot open for reading");
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();
   EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
   std::array<char, 1 << 16> buffer;
-  while (in) {
-    in.read(buffer.data(), buffer.size());
+  std::uintmax_t left = max_bytes;
+  while (in && left > 0) {
+    in.read(buffer.data(), static_cast<std::streamsize>(std::min<std::uintmax_t>(buffer.size(), left)));
     if (in.gcount() > 0) EVP_DigestUpdate(ctx, buffer.data(), static_cast<std::size_t>(in.gcount()));
+    left -= static_cast<std::uintmax_t>(std::max<std::streamsize>(0, in.gcount()));
   }
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int length = 0;

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/io/npy.hpp"
 
 namespace al::eval {
@@ -31,14 +32,14 @@ std::vector<std::int32_t> LoadLabels(const std::string& path, std::size_t num_ga
 TargetInfo ResolveTarget(const std::string& labels_path, std::optional<int> object_id) {
   TargetInfo t;
   const fs::path file = fs::path(labels_path).parent_path() / "target.json";
-  std::ifstream in(file);
-  if (in) {
+  if (fs::exists(file)) {
     try {
-      nlohmann::json j;
-      in >> j;
+      const nlohmann::json j = nlohmann::json::parse(ReadInputFile(file.string(), std::uint64_t(1) << 20));
       t.object_id = j.at("object_id").get<int>();
       t.name = j.value("name", std::string());
       t.preset = j.value("preset", std::string());
+    } catch (const Error&) {
+      throw;  // not a regular file, too large
     } catch (const std::exception&) {
       if (!object_id) throw FileError(file.string(), "expected {\"object_id\": k, ...}");
     }

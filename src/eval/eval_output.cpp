@@ -1,42 +1,28 @@
 #include "al/eval/output.hpp"
 
 #include <omp.h>
-#include <unistd.h>
 
-#include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/eval/eval.hpp"
+#include "al/io/cameras.hpp"
 
 namespace al::eval {
 
 namespace fs = std::filesystem;
 
-StagedOutput::StagedOutput(const fs::path& out) : out_(out) {
-  const fs::path abs = fs::absolute(out).lexically_normal();
-  const fs::path parent = abs.has_filename() ? abs.parent_path() : abs.parent_path().parent_path();
-  const std::string name = abs.has_filename() ? abs.filename().string() : abs.parent_path().filename().string();
-  EnsureDirectory(parent);
-  dir_ = parent / ("." + name + ".eval-tmp-" + std::to_string(::getpid()));
-  std::error_code ec;
-  fs::remove_all(dir_, ec);
-  EnsureDirectory(dir_);
-}
-
-StagedOutput::~StagedOutput() {
-  std::error_code ec;
-  if (!committed_) fs::remove_all(dir_, ec);
-}
-
-void StagedOutput::Commit() {
-  EnsureDirectory(out_);
-  std::error_code ec;
-  for (const auto& entry : fs::directory_iterator(dir_)) {
-    const fs::path target = out_ / entry.path().filename();
-    if (fs::exists(target, ec)) fs::remove_all(target, ec);
-    fs::rename(entry.path(), target, ec);
-    if (ec) throw FileError(target.string(), "cannot move evaluation output into place: " + ec.message());
+OutputSetOptions EvalOutputSetOptions(const EvalOptions& o) {
+  OutputSetOptions so;
+  so.command = "eval";
+  for (const auto& p : o.input_paths) so.inputs.push_back(p);
+  for (const auto& p : {o.seg_before_dir, o.sam_before_dir}) so.inputs.push_back(p);
+  so.planned = {"report.json", "report.html", "metrics.csv", "table.md", "table.tex"};
+  if (o.write_images) so.planned.push_back("images");
+  if (o.export_renders) so.planned.push_back("renders");
+  if (o.write_depth_pngs) {
+    so.planned.push_back("masks");
+    so.planned.push_back("depth");
   }
-  fs::remove_all(dir_, ec);
-  committed_ = true;
+  return so;
 }
 
 void WritePngsParallel(const std::vector<std::pair<fs::path, Image8>>& jobs, int num_threads) {
@@ -55,10 +41,6 @@ void WritePngsParallel(const std::vector<std::pair<fs::path, Image8>>& jobs, int
     if (!e.empty()) throw Error(e);
 }
 
-std::string SafeName(std::string name) {
-  for (char& ch : name)
-    if (ch == '/' || ch == '\\' || ch == ':') ch = '_';
-  return name.empty() ? "view" : name;
-}
+std::string SafeName(std::string name) { return SafeFileName(std::move(name)); }
 
 }  // namespace al::eval

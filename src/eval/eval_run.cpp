@@ -13,9 +13,12 @@
 #include "al/core/timer.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/images.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/eval/output.hpp"
 #include "al/eval/records.hpp"
 #include "al/eval/report_html.hpp"
+#include "al/io/ply.hpp"
+#include "al/render/render_views.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
 #include "al/metrics/removal_scores.hpp"
@@ -146,6 +149,16 @@ void PlanOptionalMetrics(EvalContext& ctx, EvalResult& r) {
   }
   if (!ctx.features.enabled())
     for (const auto& c : ctx.columns) r.skipped.push_back({"iou_drop_feat", c.name, ctx.features.skip_reason()});
+}
+
+// Before, the incremental cache and one "after" per column are held at once for each view.
+void CheckEvalMemory(const EvalContext& ctx, const std::vector<Camera>& cameras) {
+  const std::size_t n = ctx.scene.size(), nc = ctx.columns.size();
+  const int feature_dim = ctx.render.features ? int(ctx.render.features->cols()) : 0;
+  for (const Camera& cam : cameras)
+    CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
+                            std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
+                        EstimateRenderBytes(n, cam.width, cam.height, feature_dim) * double(nc + 2));
 }
 
 void MakeOutputFolders(const EvalContext& ctx) {
@@ -477,6 +490,9 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   Timer total;
   Validate(scene, cameras, columns, object, o);
   EvalResult r;
+  OutputSet staging(o.out_dir, EvalOutputSetOptions(o));  // --out checked before anything is computed
+  if (!scene.source_path.empty())  // loaded from a file that may lack columns (in-code scenes have them all)
+    for (auto& w : MissingRenderColumns(scene)) r.warnings.push_back(std::move(w));
   // Feature metrics: channels and prototypes once per scene; the renders composite the channels in
   // the RGB pass (al/eval/feature_eval.hpp).
   Timer feature_timer;
@@ -484,8 +500,8 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   ctx.render = o.render;
   ctx.render.features = ctx.features.channels();
   r.seconds_features = feature_timer.Seconds();
+  CheckEvalMemory(ctx, cameras);
   PlanOptionalMetrics(ctx, r);
-  StagedOutput staging(o.out_dir);
   ctx.out = staging.dir();
   ctx.images = ctx.out / "images";
   MakeOutputFolders(ctx);
@@ -505,10 +521,8 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   r.seconds_io += t.Seconds();
   r.seconds_total = total.Seconds();
   AddTimings(r, report);
-  WriteReport(ctx.out, report);
   WriteFileAtomically(ctx.out / "report.html", EvalReportHtml(report, ViewRecords(columns, r), ctx.view_images));
-  staging.Commit();
-  r.report = std::move(report);
+  r.report = staging.Commit(std::move(report));
   return r;
 }
 

@@ -7,6 +7,7 @@
 #include <numeric>
 
 #include "al/core/error.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/core/timer.hpp"
 #include "al/graph/candidates.hpp"
 #include "al/graph/knn.hpp"
@@ -184,6 +185,10 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     if (in_c[i]) P.node_ids.push_back(static_cast<std::int64_t>(i));
   const std::size_t V = P.node_ids.size();
   st.nodes = V;
+  // kNN lists, both CSR directions with weights, the solvers' copies (cut pursuit keeps a flow
+  // network and per-edge iterates): ~100 B per (node, neighbour) plus ~300 B per node.
+  CheckMemoryEstimate("the refinement graph of " + std::to_string(V) + " nodes with k = " + std::to_string(options.k),
+                      double(V) * (100.0 * std::max(1, options.k) + 300.0));
   P.y_remove.resize(V);
   P.node_weights.assign(V, 1.0);
   std::vector<float> node_xyz(3 * V);

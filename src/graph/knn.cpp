@@ -2,7 +2,9 @@
 #include "al/graph/knn.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <memory>
 
@@ -58,6 +60,118 @@ void Query(const Index& index, const float* q, std::int32_t self, int k, std::si
   if (out.size() > static_cast<std::size_t>(k)) out.resize(k);
 }
 
+// Exactly coincident points (same coordinates) as groups: points[begin[g]..begin[g+1]) are the
+// members of group g in ascending index; rep[g] is its first member. Empty when all are distinct.
+struct Groups {
+  std::vector<std::int32_t> group_of, members, begin, rep;
+};
+
+Groups GroupCoincident(std::span<const float> xyz) {
+  const std::size_t n = xyz.size() / 3;
+  auto key = [&](std::int32_t i) {
+    std::array<std::uint32_t, 3> k;
+    std::memcpy(k.data(), &xyz[3 * std::size_t(i)], sizeof k);
+    return k;
+  };
+  std::vector<std::int32_t> order(n);
+  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::int32_t>(i);
+  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
+    const auto ka = key(a), kb = key(b);
+    return ka != kb ? ka < kb : a < b;
+  });
+  Groups g;
+  g.group_of.assign(n, -1);
+  for (std::size_t t = 0; t < n; ++t) {
+    if (t == 0 || key(order[t]) != key(order[t - 1])) g.begin.push_back(static_cast<std::int32_t>(t));
+    g.group_of[order[t]] = static_cast<std::int32_t>(g.begin.size() - 1);
+  }
+  if (g.begin.size() == n) return {};
+  g.begin.push_back(static_cast<std::int32_t>(n));
+  g.members = std::move(order);
+  // Renumber groups by their first member, so the unique-point array keeps input order.
+  const std::size_t m = g.begin.size() - 1;
+  std::vector<std::int32_t> by_first(m);
+  for (std::size_t u = 0; u < m; ++u) by_first[u] = static_cast<std::int32_t>(u);
+  std::sort(by_first.begin(), by_first.end(),
+            [&](std::int32_t a, std::int32_t b) { return g.members[g.begin[a]] < g.members[g.begin[b]]; });
+  std::vector<std::int32_t> rank(m), members(n), begin(m + 1, 0);
+  for (std::size_t r = 0; r < m; ++r) rank[by_first[r]] = static_cast<std::int32_t>(r);
+  for (std::size_t r = 0; r < m; ++r) {
+    const std::int32_t u = by_first[r];
+    begin[r + 1] = begin[r] + (g.begin[u + 1] - g.begin[u]);
+    std::copy(g.members.begin() + g.begin[u], g.members.begin() + g.begin[u + 1], members.begin() + begin[r]);
+  }
+  for (auto& go : g.group_of) go = rank[go];
+  g.members = std::move(members);
+  g.begin = std::move(begin);
+  g.rep.resize(m);
+  for (std::size_t r = 0; r < m; ++r) g.rep[r] = g.members[g.begin[r]];
+  return g;
+}
+
+// The k + 1 smallest (distance, index) pairs over all points, for a query at unique point u:
+// its own group at distance 0, then the groups of its nearest unique points. A group contributes
+// at most `want` members (its smallest indices), so a group of 100k coincident points costs O(k)
+// instead of 100k per query (the tie retry would otherwise grow to the whole group).
+template <class Index>
+void QueryGroup(const Index& index, const float* q, std::int32_t u, std::size_t want, const Groups& g,
+                const flann::SearchParams& params, std::vector<Entry>& out, std::size_t& retries) {
+  const std::size_t m = g.rep.size();
+  std::size_t ask = std::min<std::size_t>(m, want + 1 + 8);
+  std::vector<std::size_t> idx;
+  std::vector<float> dist;
+  for (;;) {
+    flann::KNNSimpleResultSet<float> rs(ask);
+    index.findNeighbors(rs, q, params);
+    const std::size_t got = rs.size();
+    idx.resize(got);
+    dist.resize(got);
+    if (got > 0) rs.copy(idx.data(), dist.data(), got);
+    out.clear();
+    for (std::int32_t t = g.begin[u]; t < g.begin[u + 1] && out.size() < want; ++t) out.push_back({0.0f, g.members[t]});
+    for (std::size_t t = 0; t < got; ++t) {
+      const auto v = static_cast<std::int32_t>(idx[t]);
+      if (v == u) continue;
+      const std::int32_t end = std::min<std::int32_t>(g.begin[v + 1], g.begin[v] + std::int32_t(want));
+      for (std::int32_t s = g.begin[v]; s < end; ++s) out.push_back({dist[t], g.members[s]});
+    }
+    std::sort(out.begin(), out.end(),
+              [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+    const bool all = got >= m || got < ask;
+    if (all || (out.size() >= want && out[want - 1].d < dist[got - 1])) break;
+    ask = std::min(m, 2 * ask);
+    ++retries;
+  }
+  if (out.size() > want) out.resize(want);
+}
+
+// KnnAmongPoints when some points coincide: one query per unique point, on a tree of unique points.
+template <class Index>
+void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g, int k,
+                const flann::SearchParams& params, KnnResult& result, std::size_t& retries) {
+  const auto m = static_cast<std::int64_t>(g.rep.size());
+  const std::vector<std::int32_t> order = MortonOrder(uxyz);
+#pragma omp parallel reduction(+ : retries)
+  {
+    std::vector<Entry> out;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t t = 0; t < m; ++t) {
+      const std::int32_t u = order[t];
+      QueryGroup(index, &uxyz[3 * std::size_t(u)], u, std::size_t(k) + 1, g, params, out, retries);
+      for (std::int32_t s = g.begin[u]; s < g.begin[u + 1]; ++s) {
+        const std::int32_t i = g.members[s];
+        std::size_t c = 0;
+        for (const Entry& e : out) {
+          if (e.i == i || c == std::size_t(k)) continue;
+          result.neighbors[std::size_t(i) * k + c] = e.i;
+          result.sq_dist[std::size_t(i) * k + c] = e.d;
+          ++c;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::int32_t> MortonOrder(std::span<const float> xyz) {
@@ -97,6 +211,28 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
   result.neighbors.assign(n * k, -1);
   result.sq_dist.assign(n * k, 0.0f);
   if (k <= 0) {
+    result.seconds = timer.Seconds();
+    return result;
+  }
+  const Groups groups = GroupCoincident(xyz);
+  if (!groups.rep.empty()) {
+    result.coincident = n - groups.rep.size();
+    std::vector<float> uxyz(3 * groups.rep.size());
+    for (std::size_t u = 0; u < groups.rep.size(); ++u)
+      std::copy_n(&xyz[3 * std::size_t(groups.rep[u])], 3, &uxyz[3 * u]);
+    flann::Matrix<float> udata(uxyz.data(), groups.rep.size(), 3);
+    std::size_t retries = 0;
+    if (options.checks <= 0) {
+      flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeSingleIndexParams(10));
+      index.buildIndex();
+      KnnGrouped(index, uxyz, groups, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
+    } else {
+      flann::seed_random(12345);
+      flann::KDTreeIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeIndexParams(4));
+      index.buildIndex();
+      KnnGrouped(index, uxyz, groups, k, flann::SearchParams(options.checks, 0.0f, false), result, retries);
+    }
+    result.tie_retries = retries;
     result.seconds = timer.Seconds();
     return result;
   }

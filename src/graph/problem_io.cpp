@@ -9,6 +9,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/io/npy.hpp"
 
 namespace al {
@@ -59,11 +60,10 @@ RefineProblem ImportProblem(const std::string& dir) {
   RefineProblem pb;
   const fs::path params_path = d / "params.json";
   {
-    std::ifstream in(params_path);
-    if (!in) throw FileError(params_path.string(), "cannot open");
+    const std::string text = ReadInputFile(params_path.string(), std::uint64_t(1) << 20);  // refuses a FIFO at once
     nlohmann::json params;
     try {
-      in >> params;
+      params = nlohmann::json::parse(text);
     } catch (const std::exception& e) {
       throw FileError(params_path.string(), std::string("invalid JSON: ") + e.what());
     }

@@ -13,6 +13,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 
 namespace al {
 namespace {
@@ -21,12 +22,7 @@ namespace fs = std::filesystem;
 using nlohmann::json;
 
 std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open");
-  std::ostringstream ss;
-  ss << in.rdbuf();
-  if (in.bad()) throw FileError(path, "read error");
-  return ss.str();
+  return ReadInputFile(path, std::uint64_t(1) << 30);
 }
 
 double Num(const json& e, const char* key, const std::string& path, const std::string& where) {
@@ -307,10 +303,35 @@ CameraLoadResult ReadCameras(const std::string& path) {
   } else {
     res = ParseJsonCameras(ReadText(path), path);
   }
-  std::set<std::string> seen;
-  for (const Camera& c : res.cameras)
-    if (!seen.insert(c.name).second) res.warnings.push_back("camera name '" + c.name + "' occurs more than once");
+  for (auto& w : MakeViewNamesSafe(res.cameras)) res.warnings.push_back(std::move(w));
   return res;
+}
+
+std::string SafeFileName(std::string name) {
+  for (char& ch : name)
+    if (ch == '/' || ch == '\\' || ch == ':' || static_cast<unsigned char>(ch) < 0x20 || ch == 0x7f) ch = '_';
+  if (name.size() > 160) name.resize(160);
+  return name.empty() || name == "." || name == ".." ? "view" : name;
+}
+
+std::vector<std::string> MakeViewNamesSafe(std::vector<Camera>& cameras) {
+  std::vector<std::string> warnings;
+  std::set<std::string> taken;
+  for (Camera& c : cameras) {
+    const std::string safe = SafeFileName(c.name);
+    std::string name = safe;
+    for (int k = 2; taken.count(name); ++k) name = safe.substr(0, 150) + "_" + std::to_string(k);
+    taken.insert(name);
+    if (name == c.name) continue;
+    std::string shown = c.name.substr(0, 80);
+    for (char& ch : shown)
+      if (static_cast<unsigned char>(ch) < 0x20) ch = '?';
+    warnings.push_back("camera name '" + shown + "' " +
+                       (SafeFileName(c.name) == c.name ? "occurs more than once" : "is not a safe file name") +
+                       ": this view is named '" + name + "'");
+    c.name = name;
+  }
+  return warnings;
 }
 
 CameraLoadResult ParseCamerasJson(const std::string& text, const std::string& name) {

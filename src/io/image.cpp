@@ -12,6 +12,8 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
+#include "al/core/memory_limit.hpp"
 
 namespace al {
 namespace {
@@ -198,13 +200,14 @@ void WritePng16(const std::string& path, const Image16& image) {
 }
 
 PngData ReadPng(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw FileError(path, "read error");
-  if (bytes.size() < 8 || png_sig_cmp(reinterpret_cast<png_const_bytep>(bytes.data()), 0, 8) != 0)
+  const std::string bytes = ReadInputFile(path);
+  return DecodePng(bytes.data(), bytes.size(), path);
+}
+
+PngData DecodePng(const void* data, std::size_t size, const std::string& path) {
+  if (size < 8 || png_sig_cmp(static_cast<png_const_bytep>(data), 0, 8) != 0)
     throw FileError(path, "not a PNG file (bad signature)");
-  ReadSource src{reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size(), 0};
+  ReadSource src{static_cast<const std::uint8_t*>(data), size, 0};
   PngErrorState st;
   ReadInfo ri;
   if (!ReadPngHeader(&ri, &src, &st)) throw FileError(path, std::string("corrupt PNG: ") + st.message);
@@ -212,6 +215,16 @@ PngData ReadPng(const std::string& path) {
   if (ri.width == 0 || ri.height == 0 || total > (std::size_t(1) << 32)) {
     png_destroy_read_struct(&ri.png, &ri.info, nullptr);
     throw FileError(path, "image too large or empty");
+  }
+  // Decoded rows plus the 16-bit values handed out: checked from the header, before decoding.
+  const double need = double(total) + 2.0 * double(ri.width) * ri.height * ri.channels;
+  try {
+    CheckMemoryEstimate(path + ": decoding this " + std::to_string(ri.width) + "x" + std::to_string(ri.height) +
+                            " PNG",
+                        need);
+  } catch (...) {
+    png_destroy_read_struct(&ri.png, &ri.info, nullptr);
+    throw;
   }
   std::vector<std::uint8_t> buffer;
   std::vector<png_bytep> rows;

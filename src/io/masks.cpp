@@ -10,6 +10,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/io/npy.hpp"
 #include "al/io/ply.hpp"
 
@@ -55,12 +56,7 @@ RemovalSet LoadNpy(const std::string& path, const Scene& scene, const RemovalLoa
 }
 
 RemovalSet LoadTxt(const std::string& path, const Scene& scene) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw FileError(path, "cannot open");
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw FileError(path, "read error");
-  return RemovalSetFromIndexText(text.str(), path, scene.size());
+  return RemovalSetFromIndexText(ReadInputFile(path), path, scene.size());
 }
 
 }  // namespace

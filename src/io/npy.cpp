@@ -14,6 +14,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 
 namespace al {
 namespace {
@@ -360,13 +361,9 @@ NpyArray ParseNpy(std::shared_ptr<const void> owner, const std::uint8_t* bytes, 
 }
 
 NpyArray ReadNpy(const std::string& path) {
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
+  const int fd = OpenRegularFile(path);
   struct stat st {};
-  if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-    ::close(fd);
-    throw FileError(path, "not a regular file");
-  }
+  ::fstat(fd, &st);
   const auto size = static_cast<std::size_t>(st.st_size);
   if (size < 10) {
     ::close(fd);

@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "al/core/error.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/io/ply.hpp"
 #include "al/io/record_file.hpp"
 #include "src/io/mapped_file.hpp"
@@ -556,6 +557,10 @@ Scene ReadPlyImpl(const void* data_ptr, std::size_t size, const std::string& pat
     throw FileError(path, "truncated data: " + std::to_string(vertex.count) + " vertices declared but only " +
                               std::to_string(body) + " bytes follow the header");
 
+  // Columns as floats (the scene) plus, for ASCII and in-memory input, a copy of the records.
+  const bool copies = h.format == PlySource::Format::kAscii || !file_backed;
+  CheckMemoryEstimate(path + ": loading " + std::to_string(vertex.count) + " Gaussians",
+                      double(vertex.count) * double(vertex.properties.size() + 11) * 4.0 + (copies ? double(body) : 0.0));
   Scene scene;
   scene.source_path = path;
   scene.source_format = "ply";

@@ -87,4 +87,18 @@ std::string SummaryToText(const SceneSummary& s) {
   return o.str();
 }
 
+std::vector<std::string> MissingRenderColumns(const Scene& scene) {
+  if (scene.size() == 0) return {};
+  const std::string file = scene.source_path.empty() ? std::string("scene") : scene.source_path;
+  std::vector<std::string> w;
+  auto missing = [&](bool has, const char* props, const char* fallback) {
+    if (!has) w.push_back(file + ": no " + props + " properties: " + fallback);
+  };
+  missing(scene.has_opacity, "'opacity'", "every Gaussian is rendered at opacity sigmoid(0) = 0.5");
+  missing(scene.has_rotations, "'rot_0'..'rot_3'", "every Gaussian is rendered unrotated (identity quaternion)");
+  missing(scene.has_f_dc, "'f_dc_0'..'f_dc_2'", "every Gaussian is rendered grey (SH DC 0)");
+  missing(scene.has_scales, "'scale_0'..'scale_2'", "every Gaussian is rendered with unit scales (log-scale 0)");
+  return w;
+}
+
 }  // namespace al

@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/io/image.hpp"
 
 namespace al::metrics {
@@ -20,12 +22,7 @@ using json = nlohmann::json;
 constexpr std::int64_t kMaxPixels = std::int64_t(1) << 26;  // 67 Mpixel: refuse absurd sizes from hostile JSON
 
 std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path, "cannot open for reading");
-  std::ostringstream s;
-  s << in.rdbuf();
-  if (in.bad()) throw FileError(path, "read error");
-  return s.str();
+  return ReadInputFile(path);
 }
 
 json ParseJson(const std::string& text, const std::string& source) {
@@ -178,8 +175,41 @@ std::vector<Mask> ParseSamList(const json& list, const std::string& source) {
   return masks;
 }
 
+namespace {
+
+// Pixels a segment declares (a COCO RLE's "size" can ask for 67 Mpixel in a few bytes of JSON).
+double DeclaredPixels(const json& seg) {
+  if (!seg.is_object()) return 0;
+  const char* key = seg.contains("segmentation") ? "segmentation" : seg.contains("mask") ? "mask" : nullptr;
+  if (!key) return 0;
+  const json& v = seg[key];
+  if (v.is_array()) return double(v.size()) * (!v.empty() && v[0].is_array() ? double(v[0].size()) : 0.0);
+  if (!v.is_object() || !v.contains("size")) return 0;
+  const json& size = v["size"];
+  if (!size.is_array() || size.size() != 2 || !size[0].is_number_integer() || !size[1].is_number_integer()) return 0;
+  return std::max(0.0, size[0].get<double>()) * std::max(0.0, size[1].get<double>());
+}
+
+// Every list of a SAM file is decoded at once: refuse a file whose masks exceed --max-memory
+// before any is allocated.
+void CheckSamMemory(const json& j, const std::string& source) {
+  double pixels = 0;
+  std::size_t segments = 0;
+  const auto add_list = [&](const json& list) {
+    if (!list.is_array()) return;
+    for (const auto& seg : list) pixels += DeclaredPixels(seg), ++segments;
+  };
+  if (j.is_array()) add_list(j);
+  if (j.is_object())
+    for (const auto& [name, list] : j.items()) add_list(list);
+  CheckMemoryEstimate(source + ": decoding " + std::to_string(segments) + " SAM masks", pixels * sizeof(std::uint8_t));
+}
+
+}  // namespace
+
 std::map<std::string, std::vector<Mask>> ParseSamJsonText(const std::string& text, const std::string& source) {
   const json j = ParseJson(text, source);
+  CheckSamMemory(j, source);
   std::map<std::string, std::vector<Mask>> out;
   if (j.is_array()) {
     out[""] = ParseSamList(j, source);

@@ -170,23 +170,26 @@ AutoRefineOutcome RunAutoRefine(RefineOptions o, AutoTuneOptions ao, const std::
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
   if (!object_masks.empty() && cameras.empty()) throw Error("--object-masks needs --cameras", ExitCode::kUsage);
   auto solver = MakeSolver(ResolveSolverName(o.solver), o.solver_options);
+  OutputSetOptions so = RefineOutputSetOptions(o);
+  so.inputs.push_back(cameras);
+  so.inputs.push_back(object_masks);
+  OutputSet set(o.out_dir, so);
   nlohmann::json scratch = NewReport("refine");
   AutoRefineOutcome out;
   {
     const RefineInputs inputs = LoadRefineInputs(o, scratch);
     if (!cameras.empty())
-      ao.eval = MakePointEvalSetup(cameras, views, object_masks, inputs,
-                                   (std::filesystem::path(o.out_dir) / ".auto_eval").string());
+      ao.eval = MakePointEvalSetup(cameras, views, object_masks, inputs, (set.dir() / ".al-auto-eval").string());
     out.tune = AutoTune(inputs, o.graph, *solver, o.decision, ao);
   }
   const AutoTuneCandidate& c = out.tune.candidates[out.tune.best];
   o.graph.k = c.k;
   o.graph.delta = c.delta;
   o.graph.lambda = c.lambda;
-  out.refine = RunRefine(o);
+  out.refine = RefineIntoSet(o, set);
   out.refine.report["auto"] = out.tune.ToJson();
   if (!cameras.empty()) out.refine.report["auto"]["cameras"] = cameras;
-  WriteReport(o.out_dir, out.refine.report);
+  out.refine.report = set.Commit(out.refine.report);
   return out;
 }
 

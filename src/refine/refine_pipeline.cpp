@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
+#include "al/core/text.hpp"
 #include "al/core/timer.hpp"
 #include "al/graph/problem_io.hpp"
 #include "al/io/npy.hpp"
@@ -36,19 +39,26 @@ RefineCounts CountChanges(const std::vector<bool>& removed, const std::vector<bo
   return c;
 }
 
-// refined.npy, refined.txt, added.txt, remaining.ply (each atomically) and the optional problem export.
+OutputSetOptions ExportSetOptions(const RefineOptions& o) {
+  OutputSetOptions so = RefineOutputSetOptions(o);
+  so.command = "export-problem";
+  so.flag = "--export-problem";
+  so.planned = {"first_edge.npy", "adj_vertices.npy", "edge_weights.npy", "y.npy", "node_weights.npy",
+                "node_ids.npy", "p.npy", "params.json", "report.json"};
+  return so;
+}
+
+// refined.npy, refined.txt, added.txt, remaining.ply into the staging folder of the run's output
+// set, and the optional problem export (its own set).
 void WriteRefineOutputs(const RefineOptions& o, const RefineInputs& in, const GraphResult& graph,
-                        const SolveOutcome& solved, const RefineCounts& counts) {
-  fs::create_directories(o.out_dir);
-  const fs::path out(o.out_dir);
+                        const SolveOutcome& solved, const RefineCounts& counts, const fs::path& out) {
   WriteNpyBool((out / "refined.npy").string(), solved.refined);
   WriteIndexText((out / "refined.txt").string(), MaskToIndices(solved.refined), "refined removed set");
   WriteIndexText((out / "added.txt").string(), MaskToIndices(counts.added), "Gaussians added by refinement");
   std::vector<bool> keep(solved.refined.size());
   for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !solved.refined[i];
   WritePly((out / "remaining.ply").string(), *in.scene, keep);
-  if (!o.export_problem_dir.empty())
-    ExportProblem(graph.problem, solved.empty_graph ? nullptr : &solved.p, o.export_problem_dir, o.graph.lambda);
+  if (!o.export_problem_dir.empty()) ExportProblemSet(o, graph.problem, solved.empty_graph ? nullptr : &solved.p);
 }
 
 // The graph and decision fields come from their options tables (the same names as the flags).
@@ -68,9 +78,11 @@ nlohmann::json RefineParams(const RefineOptions& o, const RefineInputs& in, cons
   return params;
 }
 
-// Graph → solve → decide → ground-truth scores → outputs (when out_dir is set) → report.
+// Graph → solve → decide → ground-truth scores → outputs (into set, when given) → report (the
+// caller commits it with the set).
 RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver& solver,
-                          const std::string& solver_name, nlohmann::json report, const Timer& total) {
+                          const std::string& solver_name, nlohmann::json report, const Timer& total,
+                          OutputSet* set) {
   nlohmann::json& timings = report["timings_s"];
   nlohmann::json& warnings = report["warnings"];
   Timer t;
@@ -112,8 +124,8 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
     if (counts.added[i]) result.added.push_back(std::int64_t(i));
     else if (in.removal.removed[i] && !result.refined[i]) result.restored.push_back(std::int64_t(i));
   }
-  if (!o.out_dir.empty()) {
-    WriteRefineOutputs(o, in, graph, solved, counts);
+  if (set) {
+    WriteRefineOutputs(o, in, graph, solved, counts, set->dir());
     stage_done("write");
   }
 
@@ -133,7 +145,6 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
   report["decision"] = solved.decision;
   report["message"] = result.message;
   timings["total"] = total.Seconds();
-  if (!o.out_dir.empty()) WriteReport(o.out_dir, report);
   result.report = std::move(report);
   return result;
 }
@@ -162,15 +173,41 @@ void RefineOptions::Check() const {
                 ExitCode::kUsage);
 }
 
-RefineResult RunRefine(const RefineOptions& o) {
+OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
+  OutputSetOptions so("refine", {o.scene, o.removed, o.features, o.labels, o.prompt_embeddings},
+                      {"refined.npy", "refined.txt", "added.txt", "remaining.ply", "report.json"});
+  for (const auto& part : SplitTrimmed(o.decoder, ',')) so.inputs.push_back(part);
+  return so;
+}
+
+void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, const std::vector<double>* p) {
+  OutputSet set(o.export_problem_dir, ExportSetOptions(o));
+  ExportProblem(problem, p, set.dir().string(), o.graph.lambda);
+  nlohmann::json report = NewReport("export-problem");
+  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", o.graph.lambda}};
+  report["counts"] = {{"nodes", problem.num_nodes()}, {"edges", problem.num_edges()}};
+  set.Commit(report);
+}
+
+RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
   Timer total;
   nlohmann::json report = NewReport("refine");
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
   o.Check();
+  if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, ExportSetOptions(o));
   const std::string solver_name = ResolveSolverName(o.solver);
   auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
   const RefineInputs in = LoadRefineInputs(o, report);
-  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total);
+  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total, &set);
+}
+
+RefineResult RunRefine(const RefineOptions& o) {
+  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  o.Check();  // bad options are refused before --out is touched
+  OutputSet set(o.out_dir, RefineOutputSetOptions(o));  // --out checked before anything is loaded
+  RefineResult result = RefineIntoSet(o, set);
+  result.report = set.Commit(result.report);
+  return result;
 }
 
 RefineResult RunRefine(const RefineData& data, const RefineOptions& options) {
@@ -182,8 +219,12 @@ RefineResult RunRefine(const RefineData& data, const RefineOptions& options) {
   if (o.removed.empty() && data.removed.data != nullptr) o.removed = data.name;
   const std::string solver_name = ResolveSolverName(o.solver);
   auto solver = MakeSolver(solver_name, o.solver_options);
+  std::optional<OutputSet> set;
+  if (!o.out_dir.empty()) set.emplace(o.out_dir, RefineOutputSetOptions(o));
   const RefineInputs in = InputsFromData(data, o, report);
-  return RefineLoaded(in, o, *solver, solver_name, std::move(report), total);
+  RefineResult result = RefineLoaded(in, o, *solver, solver_name, std::move(report), total, set ? &*set : nullptr);
+  if (set) result.report = set->Commit(result.report);
+  return result;
 }
 
 }  // namespace al

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
 #include "al/metrics/removal_scores.hpp"
@@ -49,13 +50,14 @@ Preset PresetFor(const std::string& method) {
 int TargetFromLabels(const std::string& labels, const std::optional<int>& object_id) {
   if (object_id) return *object_id;
   const fs::path target = fs::path(labels).parent_path() / "target.json";
-  std::ifstream in(target);
-  if (!in)
+  if (!fs::exists(target))
     throw Error(labels + ": no --object-id and no target.json beside the labels", ExitCode::kUsage);
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(ReadInputFile(target.string(), std::uint64_t(1) << 20));
     return j.at("object_id").get<int>();
+  } catch (const Error&) {
+    throw;  // not a regular file, too large
   } catch (const std::exception&) {
     throw Error(target.string() + ": expected {\"object_id\": k}", ExitCode::kBadInput);
   }

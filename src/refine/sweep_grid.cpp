@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/core/text.hpp"
 #include "al/decision.hpp"
 #include "al/refine/stages.hpp"
@@ -158,11 +159,13 @@ std::pair<std::size_t, std::size_t> ShardRange(std::size_t total, const Shard& s
 }
 
 std::vector<SweepScene> ReadSweepManifest(const std::string& path, const RefineOptions& base) {
-  std::ifstream in(path);
-  if (!in) throw FileError(path, "cannot open the manifest");
+  return ParseSweepManifest(ReadInputFile(path, std::uint64_t(1) << 28), path, base);
+}
+
+std::vector<SweepScene> ParseSweepManifest(const std::string& text, const std::string& path, const RefineOptions& base) {
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     throw FileError(path, std::string("not valid JSON (") + e.what() + ")");
   }

@@ -4,10 +4,12 @@
 // report.
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <unordered_map>
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
 #include "al/refine/sweep.hpp"
@@ -152,22 +154,28 @@ nlohmann::json ResultJson(const MergeOptions& o, const MergeResult& r, const Sha
             {"conflicts", r.conflicts}, {"foreign_records", r.foreign_records}}}};
 }
 
-void WriteMerged(const MergeOptions& o, std::vector<nlohmann::json>& records, const ShardInfo& sweep,
+// The merged folder is one output set (al/core/output_set.hpp); checked before any shard is read.
+OutputSetOptions MergeOutputSetOptions(const MergeOptions& o) {
+  OutputSetOptions so("merge");
+  so.inputs.assign(o.shard_dirs.begin(), o.shard_dirs.end());
+  so.planned = {"results.jsonl", "results.csv", "report.json"};
+  return so;
+}
+
+void WriteMerged(OutputSet& set, std::vector<nlohmann::json>& records, const MergeOptions& o, const ShardInfo& sweep,
                  nlohmann::json& report, MergeResult& result, const Timer& timer) {
   SortRecords(records);
-  EnsureDirectory(o.out_dir);
-  WriteFileAtomically(fs::path(o.out_dir) / "results.jsonl", [&](std::ostream& os) {
+  WriteFileAtomically(set.dir() / "results.jsonl", [&](std::ostream& os) {
     for (const auto& r : records) os << r.dump() << '\n';
   });
-  const nlohmann::json summaries = WriteSweepSummaries(o.out_dir, records);
+  const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records);
   for (const auto& s : summaries["skipped_charts"])
     result.warnings.push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
   report.update(ResultJson(o, result, sweep));
   report["outputs"] = summaries;
   for (const auto& w : result.warnings) report["warnings"].push_back(w);
   report["timings_s"] = {{"total", timer.Seconds()}};
-  WriteReport(o.out_dir, report);
-  result.report = report;
+  result.report = set.Commit(report);
   result.written = true;
 }
 
@@ -203,6 +211,8 @@ std::string MergeResult::BriefReport() const {
 MergeResult MergeSweeps(const MergeOptions& o) {
   Timer timer;
   o.Check();
+  std::optional<OutputSet> set;
+  if (!o.check_only) set.emplace(o.out_dir, MergeOutputSetOptions(o));
   MergeResult result;
   nlohmann::json report = NewReport("merge");
   std::vector<LoadedShard> shards = LoadShards(o, report, result.warnings);
@@ -217,7 +227,7 @@ MergeResult MergeSweeps(const MergeOptions& o) {
   Completeness(shards, found, result);
   if (!result.complete && !o.allow_partial) result.exit_code = static_cast<int>(ExitCode::kBadInput);
   if (o.check_only || result.exit_code != 0) return result;
-  WriteMerged(o, records, sweep, report, result, timer);
+  WriteMerged(*set, records, o, sweep, report, result, timer);
   return result;
 }
 

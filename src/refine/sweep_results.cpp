@@ -1,11 +1,13 @@
 // results.jsonl reading (tolerant of a killed writer), canonical record order and results.csv
 // (al/refine/sweep.hpp).
 #include <algorithm>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <tuple>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/refine/sweep.hpp"
 
 namespace al {
@@ -78,11 +80,9 @@ nlohmann::json At(const nlohmann::json& j, const char* pointer) {
 
 JsonlContents ReadResultsJsonl(const std::string& path) {
   JsonlContents out;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return out;
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) return out;
+  const std::string text = ReadInputFile(path);  // a FIFO or a folder is refused, never read
   std::size_t pos = 0, line_no = 0;
   while (pos < text.size()) {
     ++line_no;

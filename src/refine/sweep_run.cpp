@@ -9,6 +9,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
 #include "al/refine/stages.hpp"
@@ -76,6 +77,20 @@ std::map<std::string, std::unique_ptr<Solver>> CheckOptionsAndMakeSolvers(const 
   return solvers;
 }
 
+// results.jsonl is the sweep's journal: appended in place point by point (a kill loses at most the
+// point in flight), so it lives in --out with shard.json, its identity; the rest of the set
+// (results.csv, charts, report.json) is staged and committed (al/core/output_set.hpp).
+OutputSetOptions SweepOutputSetOptions(const SweepOptions& o) {
+  OutputSetOptions so("sweep");
+  for (const auto& s : o.scenes)
+    for (const auto& p : {s.options.scene, s.options.removed, s.options.labels, s.options.features, s.cameras,
+                          s.object_masks})
+      so.inputs.push_back(p);
+  so.planned = {"results.csv", "report.json"};
+  so.journals = {"results.jsonl", "shard.json"};
+  return so;
+}
+
 nlohmann::json SweepParams(const SweepOptions& o) {
   nlohmann::json scenes = nlohmann::json::array();
   for (const auto& s : o.scenes)
@@ -138,7 +153,8 @@ ResultsFile OpenResults(const fs::path& jsonl, nlohmann::json& warnings) {
 // changes; λ is applied by rescaling the λ = 1 weights.
 class PointRunner {
  public:
-  PointRunner(const SweepOptions& o, nlohmann::json& report) : o_(o), report_(report) {}
+  PointRunner(const SweepOptions& o, nlohmann::json& report, fs::path scratch)
+      : o_(o), report_(report), scratch_(std::move(scratch)) {}
   std::size_t graphs_built() const { return graphs_built_; }
   const nlohmann::json& load_seconds() const { return load_seconds_; }
 
@@ -195,8 +211,7 @@ class PointRunner {
     for (const auto& w : scene_report["warnings"]) report_["warnings"].push_back(sc.name + ": " + w.get<std::string>());
     eval_setup_.reset();
     if (!sc.cameras.empty())
-      eval_setup_ = MakePointEvalSetup(sc.cameras, o_.eval_views, sc.object_masks, *inputs_,
-                                       (fs::path(o_.out_dir) / ".eval_scratch").string());
+      eval_setup_ = MakePointEvalSetup(sc.cameras, o_.eval_views, sc.object_masks, *inputs_, scratch_.string());
     load_seconds_[sc.name] = timer.Seconds();
   }
 
@@ -250,6 +265,7 @@ class PointRunner {
 
   const SweepOptions& o_;
   nlohmann::json& report_;
+  fs::path scratch_;  // RunEval's folder per evaluated point, inside the staging folder
   std::optional<RefineInputs> inputs_;
   std::size_t scene_ = SIZE_MAX;
   std::optional<PointEvalSetup> eval_setup_;
@@ -262,12 +278,12 @@ class PointRunner {
 };
 
 // results.csv, charts (unsharded runs only) and report.json from every record of the folder.
-void FinishSweep(const SweepOptions& o, const fs::path& jsonl, SweepResult& result, nlohmann::json& report,
-                 const Timer& total_timer, const nlohmann::json& load_seconds) {
+void FinishSweep(const SweepOptions& o, OutputSet& set, const fs::path& jsonl, SweepResult& result,
+                 nlohmann::json& report, const Timer& total_timer, const nlohmann::json& load_seconds) {
   std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string()).records;
   SortRecords(records);
   // A shard's charts would show only its slice: shards write the CSV, `merge` draws the charts.
-  const nlohmann::json summaries = WriteSweepSummaries(o.out_dir, records, /*charts=*/o.shard.count == 1);
+  const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records, /*charts=*/o.shard.count == 1);
   for (const auto& s : summaries["skipped_charts"])
     report["warnings"].push_back("chart " + s["name"].get<std::string>() + " skipped: " + s["reason"].get<std::string>());
   report["outputs"] = summaries;
@@ -276,8 +292,7 @@ void FinishSweep(const SweepOptions& o, const fs::path& jsonl, SweepResult& resu
                       {"empty_graphs", result.empty_graphs}, {"graphs_built", result.graphs_built},
                       {"records", records.size()}};
   report["timings_s"] = {{"load", load_seconds}, {"total", total_timer.Seconds()}};
-  WriteReport(o.out_dir, report);
-  result.report = report;
+  result.report = set.Commit(report);
 }
 
 }  // namespace
@@ -298,13 +313,13 @@ SweepResult RunSweep(const SweepOptions& o) {
   if (fs::exists(o.out_dir)) CheckOutDir(o.out_dir, info);
   if (o.dry_run) return result;
 
+  OutputSet set(o.out_dir, SweepOutputSetOptions(o));
   nlohmann::json report = NewReport("sweep");
   report["params"] = SweepParams(o);
-  EnsureDirectory(o.out_dir);
-  WriteShardInfo(o.out_dir, info);
-  const fs::path jsonl = fs::path(o.out_dir) / "results.jsonl";
+  WriteShardInfo(set.Journal("shard.json").parent_path().string(), info);
+  const fs::path jsonl = set.Journal("results.jsonl");
   ResultsFile results = OpenResults(jsonl, report["warnings"]);
-  PointRunner runner(o, report);
+  PointRunner runner(o, report, set.dir() / ".al-eval-scratch");
   for (std::size_t j = begin; j < end; ++j) {
     const SweepPoint& p = points[j % P];
     SweepProgress progress{j - begin + 1, end - begin, nullptr, PointId(o.scenes[j / P].name, p)};
@@ -324,7 +339,7 @@ SweepResult RunSweep(const SweepOptions& o) {
   }
   results.out.close();
   result.graphs_built = runner.graphs_built();
-  FinishSweep(o, jsonl, result, report, total_timer, runner.load_seconds());
+  FinishSweep(o, set, jsonl, result, report, total_timer, runner.load_seconds());
   return result;
 }
 

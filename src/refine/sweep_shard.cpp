@@ -5,6 +5,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/core/report.hpp"
 #include "al/refine/sweep.hpp"
 
@@ -151,13 +152,14 @@ ShardInfo MakeShardInfo(const SweepOptions& o) {
 
 ShardInfo ReadShardInfo(const std::string& dir) {
   const fs::path path = fs::path(dir) / "shard.json";
-  std::ifstream in(path);
-  if (!in)
+  std::error_code ec;
+  if (!fs::exists(path, ec))
     throw Error(dir + ": no shard.json (not a sweep output, or written by an al-refine before shard.json; "
                 "rerun that shard with the same command to add it)", ExitCode::kBadInput);
+  const std::string text = ReadInputFile(path.string(), std::uint64_t(1) << 26);  // refuses a FIFO at once
   nlohmann::json j;
   try {
-    in >> j;
+    j = nlohmann::json::parse(text);
   } catch (const std::exception& e) {
     throw FileError(path.string(), std::string("not valid JSON (") + e.what() + ")");
   }

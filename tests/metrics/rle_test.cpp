@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/error.hpp"
+#include "al/core/memory_limit.hpp"
 #include "al/metrics/mask_io.hpp"
 
 namespace al::metrics {
@@ -120,6 +121,26 @@ TEST(SamJson, DenseAndRleSegmentsAndLegacyMerged) {
   } catch (const Error& e) {
     EXPECT_NE(std::string(e.what()).find("dir/file.json"), std::string::npos);  // names the file
   }
+}
+
+// A few bytes of COCO RLE can declare a 67-Mpixel mask: a file of many is refused from the declared
+// sizes (exit 2, estimate and limit in the message) before a mask is allocated.
+TEST(SamJson, MasksOverTheMemoryLimitAreRefusedBeforeDecoding) {
+  nlohmann::json list = nlohmann::json::array();
+  for (int i = 0; i < 100; ++i)  // 100 x 8192 x 8192 x 1 B = 6.25 GiB
+    list.push_back({{"segmentation", {{"size", {8192, 8192}}, {"counts", {std::int64_t(8192) * 8192}}}}});
+  SetMemoryLimitBytes(std::uint64_t(1) << 30);
+  try {
+    ParseSamJsonText(list.dump(), "huge.json");
+    ADD_FAILURE() << "not refused";
+  } catch (const Error& e) {
+    EXPECT_EQ(e.code(), ExitCode::kBadInput);
+    EXPECT_NE(std::string(e.what()).find("100 SAM masks needs about 6.2 GiB"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("memory limit of 1.0 GiB"), std::string::npos) << e.what();
+  }
+  list.erase(list.begin() + 2, list.end());  // 2 masks: 128 MiB, under the limit
+  EXPECT_EQ(ParseSamJsonText(list.dump(), "ok.json").at("").size(), 2u);
+  SetMemoryLimitBytes(0);  // back to the default
 }
 
 TEST(GroundedSam, UnionOfThePromptsInstances) {

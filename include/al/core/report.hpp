@@ -1,6 +1,7 @@
 // Every subcommand writes a machine-readable report.json (SPEC §1) with at least:
 // status, command, params, inputs, counts, timings_s, warnings.
 #pragma once
+#include <cstdint>
 #include <filesystem>
 #include <string>
 
@@ -19,8 +20,8 @@ void AddInputFile(nlohmann::json& report, const std::string& role, const std::fi
 void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report,
                  const std::string& file_name = "report.json");
 
-// Hex SHA-256 of a file's bytes.
-std::string Sha256File(const std::filesystem::path& path);
+// Hex SHA-256 of a file's bytes (of its first max_bytes bytes when given).
+std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes = UINTMAX_MAX);
 
 // Peak resident set size of this process so far, in MiB (0 if the OS does not say).
 // WriteReport stamps it into every report as "peak_rss_mib".

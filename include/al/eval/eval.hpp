@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/output_set.hpp"
 #include "al/eval/feature_eval.hpp"
 #include "al/io/camera.hpp"
 #include "al/metrics/depth.hpp"
@@ -42,7 +43,8 @@ struct ObjectSource {
 };
 
 struct EvalOptions {
-  std::string out_dir;                 // required
+  std::string out_dir;                 // required; one output set (al/core/output_set.hpp)
+  std::vector<std::string> input_paths;  // refused when inside out_dir where the run would replace them
   std::string row_name = "scene";      // table row ("Scene-Object")
   RenderOptions render;                // background, SH degree, threads
   metrics::GhtOptions ght;             // published GHT parameters by default
@@ -123,6 +125,8 @@ struct EvalResult {
 // then its refinements) on `cameras`. Validates every input first (al::Error, nothing written);
 // outputs are staged and moved into out_dir only when the whole run succeeded. `report` (may be
 // null) is the caller's report skeleton (params, inputs): RunEval adds counts, metrics, timings.
+// The output-set options of a run (inputs, planned names): the CLI checks --out with them first.
+OutputSetOptions EvalOutputSetOptions(const EvalOptions& o);
 EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
                    const ObjectSource& object, const EvalOptions& options, const nlohmann::json* report = nullptr);
 

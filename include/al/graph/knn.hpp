@@ -4,7 +4,9 @@
 // at distance 0); equal distances are broken by the smaller point index — more neighbours are
 // requested until the k-th is no longer tied with the last returned one, so the answer does not
 // depend on the tree's traversal order. Queries run in Morton order (cache locality), OpenMP over
-// blocks; the result is independent of the thread count.
+// blocks; the result is independent of the thread count. Exactly coincident points are grouped
+// first (one query per position, O(k) per point): the answer is the same, but a pile of 100k
+// duplicates no longer makes the tie rule look at the whole pile for every query.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -22,6 +24,7 @@ struct KnnResult {
   std::vector<std::int32_t> neighbors;   // n*k, ascending (squared distance, index); -1 = none
   std::vector<float> sq_dist;            // n*k, FLANN's float squared distances
   std::size_t tie_retries = 0;           // queries re-run because of a tie at the boundary
+  std::size_t coincident = 0;            // points at exactly the position of an earlier point
   double seconds = 0.0;
 };
 

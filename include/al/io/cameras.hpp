@@ -16,10 +16,17 @@ struct CameraLoadResult {
 
 // path: a .json file (INRIA list or plain list, told apart by keys), a COLMAP folder holding
 // cameras.txt + images.txt, or either of those two files. Throws al::Error naming the file.
+// View names are made safe and unique (MakeViewNamesSafe), with a warning for each change.
 CameraLoadResult ReadCameras(const std::string& path);
 
+// A view name as a file-name part: '/', '\\', ':' and control characters (NUL included) become
+// '_'; an empty, "." or ".." name becomes "view"; at most 160 bytes (outputs add suffixes).
+std::string SafeFileName(std::string name);
+// Makes every name safe (SafeFileName) and unique: a repeat gets "_2", "_3", ... so that views
+// never overwrite each other's outputs. Returns one warning per renamed view.
+std::vector<std::string> MakeViewNamesSafe(std::vector<Camera>& cameras);
+
 // In-memory parsers behind ReadCameras (for fuzzing and embedding); `*_name` prefixes errors.
-// ReadCameras additionally warns about duplicate names.
 CameraLoadResult ParseCamerasJson(const std::string& text, const std::string& name);
 CameraLoadResult ParseColmapText(const std::string& cameras_text, const std::string& images_text,
                                  const std::string& cameras_name = "cameras.txt",

@@ -1,5 +1,6 @@
 // PNG images via libpng. Row 0 = top. Interleaved channels.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -30,5 +31,8 @@ struct PngData {
   std::vector<std::uint16_t> values;  // height * width * channels
 };
 PngData ReadPng(const std::string& path);
+// The same from bytes in memory (fuzzing); `name` prefixes errors. The decoded size is checked
+// against the memory limit (al/core/memory_limit.hpp) from the header, before decoding.
+PngData DecodePng(const void* data, std::size_t size, const std::string& name);
 
 }  // namespace al

@@ -45,6 +45,11 @@ Scene ReadScene(const std::string& path, const PlyReadOptions& options = {});
 // keep empty = keep everything. Written atomically.
 void WritePly(const std::string& path, const Scene& scene, const std::vector<bool>& keep = {});
 
+// One warning per column group a renderer needs that the file lacks, naming the missing
+// properties and the default used instead (opacity logit 0 = 50 %, identity rotation, grey f_dc,
+// unit scales). Render and eval report these; refine needs none of them.
+std::vector<std::string> MissingRenderColumns(const Scene& scene);
+
 // Counts of non-finite values per standard column group (reported by `info`, excluded later).
 struct NonFiniteCounts {
   std::size_t means = 0, scales = 0, rotations = 0, opacities = 0, sh = 0, features = 0;

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/output_set.hpp"
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
 #include "al/io/masks.hpp"
@@ -78,8 +79,16 @@ struct RefineData {
   std::string name = "(memory)";        // stands for the file names in report.params and errors
 };
 
-// Throws al::Error (bad input / usage) before writing anything.
+// Throws al::Error (bad input / usage) before writing anything. The outputs form one output set
+// (al/core/output_set.hpp): inputs inside out_dir that the run would replace are refused up front.
 RefineResult RunRefine(const RefineOptions& options);
+
+// The pieces of RunRefine for callers that add to the set (refine --auto): the OutputSet options
+// of out_dir (inputs, planned names), and the run writing into set.dir() without committing.
+OutputSetOptions RefineOutputSetOptions(const RefineOptions& options);
+RefineResult RefineIntoSet(const RefineOptions& options, OutputSet& set);
+// Writes the solvers' problem (and p) into its own output set (--export-problem).
+void ExportProblemSet(const RefineOptions& options, const RefineProblem& problem, const std::vector<double>* p);
 
 // The same refinement from memory: one code path with the file-based RunRefine after loading, so
 // both give identical masks for the same input. Writes the outputs only when options.out_dir is set.

@@ -77,6 +77,8 @@ struct SweepScene {
 // object_id?, cameras?, object_masks?}. Relative paths are relative to the manifest's folder;
 // unnamed fields take the base options. Names must be unique and non-empty.
 std::vector<SweepScene> ReadSweepManifest(const std::string& path, const RefineOptions& base);
+// The same on the manifest's text (fuzzing); relative paths resolve against path's folder.
+std::vector<SweepScene> ParseSweepManifest(const std::string& text, const std::string& path, const RefineOptions& base);
 
 // "--shard i/n": the i-th (0-based, 0 <= i < n) of n slices.
 struct Shard {

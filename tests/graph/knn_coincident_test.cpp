@@ -1,0 +1,65 @@
+// kNN with exactly coincident points (issue #14): grouped queries give the brute-force answer
+// (ascending squared distance, ties by index, the query excluded by index) and stay fast.
+#include <algorithm>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "al/graph/knn.hpp"
+
+namespace al {
+namespace {
+
+// The definition: every other point sorted by (float squared distance, index), first k.
+std::vector<std::int32_t> BruteForce(const std::vector<float>& xyz, std::size_t i, int k) {
+  const std::size_t n = xyz.size() / 3;
+  std::vector<std::pair<float, std::int32_t>> all;
+  for (std::size_t j = 0; j < n; ++j) {
+    if (j == i) continue;
+    float d = 0;
+    for (int a = 0; a < 3; ++a) d += (xyz[3 * i + a] - xyz[3 * j + a]) * (xyz[3 * i + a] - xyz[3 * j + a]);
+    all.push_back({d, static_cast<std::int32_t>(j)});
+  }
+  std::sort(all.begin(), all.end());
+  std::vector<std::int32_t> out;
+  for (int c = 0; c < k && c < int(all.size()); ++c) out.push_back(all[c].second);
+  return out;
+}
+
+TEST(Knn, CoincidentGroupsGiveTheBruteForceAnswer) {
+  // Piles of 1, 3 and 40 points at a few positions, on a coarse grid (many equal distances).
+  std::mt19937 rng(3);
+  std::vector<float> xyz;
+  for (int g = 0; g < 60; ++g) {
+    const float p[3] = {float(rng() % 5), float(rng() % 5), float(rng() % 3)};
+    const int copies = g % 7 == 0 ? 40 : g % 3 == 0 ? 3 : 1;
+    for (int c = 0; c < copies; ++c) xyz.insert(xyz.end(), p, p + 3);
+  }
+  std::shuffle(xyz.begin(), xyz.end(), rng);  // scramble coordinates: other piles, same multiset
+  for (int k : {1, 5, 12}) {
+    const KnnResult r = KnnAmongPoints(xyz, {k, 0});
+    EXPECT_GT(r.coincident, 0u);
+    for (std::size_t i = 0; i < xyz.size() / 3; ++i) {
+      const auto expect = BruteForce(xyz, i, k);
+      const std::vector<std::int32_t> got(r.neighbors.begin() + i * k, r.neighbors.begin() + i * k + expect.size());
+      ASSERT_EQ(got, expect) << "point " << i << ", k = " << k;
+    }
+  }
+}
+
+TEST(Knn, OneHundredThousandCoincidentPoints) {
+  // Time is checked by cli.reliability_degenerate (100k coincident Gaussians refined in < 5 s).
+  std::vector<float> xyz(3 * 100000, 0.5f);
+  const KnnResult r = KnnAmongPoints(xyz, {10, 0});
+  EXPECT_EQ(r.coincident, 99999u);
+  // Ties go to the smaller index: point i's neighbours are 0..10 without i.
+  for (std::size_t i : {0u, 5u, 99999u}) {
+    std::vector<std::int32_t> expect;
+    for (std::int32_t j = 0; int(expect.size()) < 10; ++j)
+      if (std::size_t(j) != i) expect.push_back(j);
+    EXPECT_EQ(std::vector<std::int32_t>(r.neighbors.begin() + i * 10, r.neighbors.begin() + i * 10 + 10), expect);
+  }
+}
+
+}  // namespace
+}  // namespace al
