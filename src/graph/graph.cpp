@@ -99,84 +99,74 @@ RowMatXf ColourFeatures(const Scene& scene) {
   return rgb;
 }
 
-GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
-                             const std::vector<bool>& removed, const GraphOptions& options,
-                             const std::vector<std::uint8_t>* extra_seeds) {
-  Timer total;
+namespace {
+
+// Size checks of the data and the options' ranges (the table's words); returns the gate distance.
+double CheckGraphInputs(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
+                        const GraphOptions& options, const std::vector<std::uint8_t>* extra_seeds) {
   const std::size_t N = scene.size();
   const auto n_rows = static_cast<Eigen::Index>(N);
-  if (extra_seeds && extra_seeds->size() != N)
-    throw Error("extra candidate seeds: wrong size", ExitCode::kInternal);
+  if (extra_seeds && extra_seeds->size() != N) throw Error("extra candidate seeds: wrong size", ExitCode::kInternal);
   if (removed.size() != N)
-    throw Error("removal mask has " + std::to_string(removed.size()) + " entries, scene has " +
-                std::to_string(N), ExitCode::kBadInput);
-  if (features.rows() != n_rows || features.cols() == 0)
-    throw Error("features: expected " + std::to_string(N) + " rows with D > 0, got " +
-                std::to_string(features.rows()) + "x" + std::to_string(features.cols()),
+    throw Error("removal mask has " + std::to_string(removed.size()) + " entries, scene has " + std::to_string(N),
                 ExitCode::kBadInput);
-  if (scene.log_scales.rows() != n_rows)
-    throw Error(scene.source_path + ": scale columns missing", ExitCode::kBadInput);
-  if (options.k < 1) throw Error("--k must be >= 1", ExitCode::kUsage);
-  if (options.hops < 0) throw Error("--hops must be >= 0", ExitCode::kUsage);
-  if (!(options.radius_scale > 0) || !std::isfinite(options.radius_scale))
-    throw Error("--radius-scale must be a positive number", ExitCode::kUsage);
-  if (!(options.lambda >= 0) || !std::isfinite(options.lambda))
-    throw Error("--lambda must be >= 0", ExitCode::kUsage);
-  if (!(options.kl_smoothing > 0 && options.kl_smoothing < 1))
-    throw Error("--kl-smoothing must be in (0, 1)", ExitCode::kUsage);
-  double gate = options.delta;
-  if (options.delta_mode == DeltaMode::kCosine) {
-    if (!(options.delta >= -1 && options.delta <= 1))
-      throw Error("--delta in cosine mode must be in [-1, 1]", ExitCode::kUsage);
-    if (!options.normalize_features)
-      throw Error("--delta-mode cosine needs normalised semantic features (not the colour fallback)",
-                  ExitCode::kUsage);
-    gate = std::sqrt(2.0 * (1.0 - options.delta));
-  } else if (!(options.delta >= 0) || !std::isfinite(options.delta)) {
-    throw Error("--delta must be >= 0", ExitCode::kUsage);
-  }
+  if (features.rows() != n_rows || features.cols() == 0)
+    throw Error("features: expected " + std::to_string(N) + " rows with D > 0, got " + std::to_string(features.rows()) +
+                    "x" + std::to_string(features.cols()),
+                ExitCode::kBadInput);
+  if (scene.log_scales.rows() != n_rows) throw Error(scene.source_path + ": scale columns missing", ExitCode::kBadInput);
+  options.Check();
+  if (options.delta_mode != DeltaMode::kCosine) return options.delta;
+  if (!options.normalize_features)
+    throw Error("graph option 'delta_mode' = cosine needs normalised semantic features (not the colour fallback)",
+                ExitCode::kUsage);
+  return std::sqrt(2.0 * (1.0 - options.delta));
+}
 
-  GraphResult out;
-  GraphStats& st = out.stats;
-  st.num_gaussians = N;
-  st.feature_dim = static_cast<std::size_t>(features.cols());
-  st.gate_distance = gate;
-
-  // 1. Activity (all parameters finite) and radii.
-  Timer stage;
-  std::vector<std::uint8_t> active(N), seeds(N);
-  std::vector<double> radii(N, 0.0);
-  std::vector<float> xyz(3 * N);
+// Step 1: which Gaussians take part (every parameter and feature finite, a finite sphere), their
+// positions, sphere radii and whether the candidate set grows from them.
+struct SceneNodes {
+  std::vector<std::uint8_t> active, seeds;
+  std::vector<double> radii;
+  std::vector<float> xyz;
+};
+SceneNodes ActiveGaussians(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
+                           const GraphOptions& options, const std::vector<std::uint8_t>* extra_seeds) {
+  const std::size_t N = scene.size();
+  const auto n_rows = static_cast<Eigen::Index>(N);
+  SceneNodes s{std::vector<std::uint8_t>(N), std::vector<std::uint8_t>(N), std::vector<double>(N, 0.0),
+               std::vector<float>(3 * N)};
   const bool has_rot = scene.rotations.rows() == n_rows;
   const bool has_op = scene.opacity_logits.size() == n_rows;
   const bool has_sh = scene.sh.rows() == n_rows;
   const auto nn = static_cast<std::int64_t>(N);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < nn; ++i) {
-    bool ok = RowFinite(scene.means, i) && RowFinite(scene.log_scales, i) &&
-              RowFinite(features, i) && (!has_rot || RowFinite(scene.rotations, i)) &&
-              (!has_op || std::isfinite(scene.opacity_logits[i])) && (!has_sh || RowFinite(scene.sh, i));
+    bool ok = RowFinite(scene.means, i) && RowFinite(scene.log_scales, i) && RowFinite(features, i) &&
+              (!has_rot || RowFinite(scene.rotations, i)) && (!has_op || std::isfinite(scene.opacity_logits[i])) &&
+              (!has_sh || RowFinite(scene.sh, i));
     double r = 0.0;
     for (int a = 0; a < 3; ++a) {
-      xyz[3 * i + a] = scene.means(i, a);
+      s.xyz[3 * i + a] = scene.means(i, a);
       r = std::max(r, std::exp(double(scene.log_scales(i, a))));
     }
     r *= options.radius_scale;
     if (!std::isfinite(r)) ok = false;  // exp overflow: no usable sphere
-    active[i] = ok;
-    radii[i] = r;
-    seeds[i] = removed[i] || (extra_seeds && (*extra_seeds)[i]) ? 1 : 0;
+    s.active[i] = ok;
+    s.radii[i] = r;
+    s.seeds[i] = removed[i] || (extra_seeds && (*extra_seeds)[i]) ? 1 : 0;
   }
-  out.excluded.resize(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    out.excluded[i] = !active[i];
-    st.excluded_nonfinite += !active[i];
-  }
+  return s;
+}
 
-  // 2. Candidates.
+// Step 2: the candidate nodes (ascending scene index), their observations y and positions.
+std::vector<float> SelectCandidates(const SceneNodes& s, const std::vector<bool>& removed, const GraphOptions& options,
+                                    GraphResult& out) {
+  GraphStats& st = out.stats;
+  const std::size_t N = removed.size();
   CandidateStats cst;
-  const std::vector<std::uint8_t> in_c = GrowCandidates(xyz, radii, active, seeds, options.hops, &cst);
-  for (std::size_t i = 0; i < N; ++i) st.removed_nodes += removed[i] && active[i];
+  const std::vector<std::uint8_t> in_c = GrowCandidates(s.xyz, s.radii, s.active, s.seeds, options.hops, &cst);
+  for (std::size_t i = 0; i < N; ++i) st.removed_nodes += removed[i] && s.active[i];
   st.added_per_hop = cst.added_per_hop;
   st.huge_spheres = cst.huge_spheres;
   RefineProblem& P = out.problem;
@@ -195,92 +185,98 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   for (std::size_t v = 0; v < V; ++v) {
     const std::size_t i = static_cast<std::size_t>(P.node_ids[v]);
     P.y_remove[v] = removed[i] ? 1.0 : 0.0;
-    for (int a = 0; a < 3; ++a) node_xyz[3 * v + a] = xyz[3 * i + a];
+    for (int a = 0; a < 3; ++a) node_xyz[3 * v + a] = s.xyz[3 * i + a];
   }
-  st.seconds_candidates = stage.Seconds();
+  return node_xyz;
+}
 
-  // 3. kNN among candidates.
-  stage.Reset();
-  KnnOptions ko;
-  ko.k = options.k;
-  ko.checks = options.knn_checks;
-  const KnnResult knn = KnnAmongPoints(node_xyz, ko);
-  st.knn_tie_retries = knn.tie_retries;
-  st.seconds_knn = stage.Seconds();
+double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t v) {
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = double(xyz[3 * u + a]) - xyz[3 * v + a];
+    s += d * d;
+  }
+  return s;
+}
 
-  // 4. Node features, the feature prior, gate and weights.
-  stage.Reset();
-  const int K = knn.k;
-  const RowMatXf nf = NodeFeatures(features, P.node_ids, active, options, out.zero_norm, st.centred);
-  const Eigen::Index D = nf.cols();
-  st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
-  if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
-  auto xdist2 = [&](std::size_t u, std::size_t v) {
-    double s = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double d = double(node_xyz[3 * u + a]) - node_xyz[3 * v + a];
-      s += d * d;
-    }
-    return s;
-  };
-  // σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.
+// σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.
+void SpatialScale(const KnnResult& knn, const std::vector<float>& node_xyz, const SceneNodes& s,
+                  const RefineProblem& P, const GraphOptions& options, GraphStats& st) {
   if (!options.spatial) {
     st.sigma_x_source = "off";
-  } else {
-    std::vector<double> d;
-    d.reserve(V * K);
-    for (std::size_t u = 0; u < V; ++u)
-      for (int c = 0; c < K; ++c) {
-        const std::int32_t v = knn.neighbors[u * K + c];
-        if (v < 0) continue;
-        const double x = std::sqrt(xdist2(u, v));
-        if (x > 0) d.push_back(x);
-      }
-    if (!d.empty()) {
-      st.sigma_x = Median(std::move(d));
-      st.sigma_x_source = "median_knn_distance";
-    } else {
-      std::vector<double> r(V);
-      for (std::size_t v = 0; v < V; ++v) r[v] = radii[P.node_ids[v]];
-      st.sigma_x = Median(std::move(r));
-      st.sigma_x_source = "median_radius";
-    }
+    return;
   }
-  // Undirected pairs stored at the smaller endpoint: count, fill, sort, unique.
-  std::vector<std::int64_t> row_start(V + 1, 0);
+  const std::size_t V = P.node_ids.size();
+  const int K = knn.k;
+  std::vector<double> d;
+  d.reserve(V * K);
   for (std::size_t u = 0; u < V; ++u)
     for (int c = 0; c < K; ++c) {
       const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) ++row_start[std::min<std::size_t>(u, v) + 1];
+      if (v < 0) continue;
+      const double x = std::sqrt(SquaredDistance(node_xyz, u, v));
+      if (x > 0) d.push_back(x);
     }
-  for (std::size_t v = 0; v < V; ++v) row_start[v + 1] += row_start[v];
-  std::vector<std::int32_t> cand(row_start[V]);
-  {
-    std::vector<std::int64_t> cur(row_start.begin(), row_start.end() - 1);
-    for (std::size_t u = 0; u < V; ++u)
-      for (int c = 0; c < K; ++c) {
-        const std::int32_t v = knn.neighbors[u * K + c];
-        if (v < 0) continue;
-        const std::size_t a = std::min<std::size_t>(u, v), b = std::max<std::size_t>(u, v);
-        cand[cur[a]++] = static_cast<std::int32_t>(b);
-      }
+  if (!d.empty()) {
+    st.sigma_x = Median(std::move(d));
+    st.sigma_x_source = "median_knn_distance";
+    return;
   }
+  std::vector<double> r(V);
+  for (std::size_t v = 0; v < V; ++v) r[v] = s.radii[P.node_ids[v]];
+  st.sigma_x = Median(std::move(r));
+  st.sigma_x_source = "median_radius";
+}
+
+// kNN pairs as undirected pairs stored at the smaller endpoint (CSR, possibly repeated).
+struct PairLists {
+  std::vector<std::int64_t> row_start;
+  std::vector<std::int32_t> other;
+};
+PairLists PairsAtSmallerEndpoint(const KnnResult& knn, std::size_t V) {
+  const int K = knn.k;
+  PairLists pl{std::vector<std::int64_t>(V + 1, 0), {}};
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < K; ++c) {
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) ++pl.row_start[std::min<std::size_t>(u, v) + 1];
+    }
+  for (std::size_t v = 0; v < V; ++v) pl.row_start[v + 1] += pl.row_start[v];
+  pl.other.resize(pl.row_start[V]);
+  std::vector<std::int64_t> cur(pl.row_start.begin(), pl.row_start.end() - 1);
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < K; ++c) {
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v < 0) continue;
+      const std::size_t a = std::min<std::size_t>(u, v), b = std::max<std::size_t>(u, v);
+      pl.other[cur[a]++] = static_cast<std::int32_t>(b);
+    }
+  return pl;
+}
+
+// Step 4: per node, its unique pairs through the semantic gate get weight
+// λ exp(-d_f²/σ_f²) [exp(-d_x²/σ_x²)]; the kept edges are compacted into the problem's CSR.
+void GateAndWeigh(PairLists& pl, const RowMatXf& nf, const std::vector<std::uint8_t>& zero_norm,
+                  const std::vector<float>& node_xyz, double gate, const GraphOptions& options, RefineProblem& P,
+                  GraphStats& st) {
+  const std::size_t V = P.node_ids.size();
+  const Eigen::Index D = nf.cols();
   std::vector<std::int64_t> kept(V, 0), unique_count(V, 0);
-  std::vector<double> cand_w(cand.size(), 0.0);
+  std::vector<double> cand_w(pl.other.size(), 0.0);
   const double sf2 = gate * gate, sx2 = st.sigma_x * st.sigma_x;
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(dynamic, 512)
   for (std::int64_t u = 0; u < vv; ++u) {
-    auto* b = cand.data() + row_start[u];
-    auto* e = cand.data() + row_start[u + 1];
+    auto* b = pl.other.data() + pl.row_start[u];
+    auto* e = pl.other.data() + pl.row_start[u + 1];
     std::sort(b, e);
     e = std::unique(b, e);
     unique_count[u] = e - b;
-    std::int64_t w_at = row_start[u];
+    std::int64_t w_at = pl.row_start[u];
     const float* fu = nf.row(u).data();
     for (auto* it = b; it != e; ++it) {
       const std::int32_t v = *it;
-      if (out.zero_norm[u] || out.zero_norm[v]) continue;
+      if (zero_norm[u] || zero_norm[v]) continue;
       const float* fv = nf.row(v).data();
       double df2 = 0;
       for (Eigen::Index d = 0; d < D; ++d) {
@@ -289,12 +285,12 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
       }
       if (!(std::sqrt(df2) <= gate)) continue;
       double w = options.lambda * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
-      if (options.spatial && sx2 > 0) w *= std::exp(-xdist2(u, v) / sx2);
-      cand[w_at] = v;
+      if (options.spatial && sx2 > 0) w *= std::exp(-SquaredDistance(node_xyz, u, v) / sx2);
+      pl.other[w_at] = v;
       cand_w[w_at] = w;
       ++w_at;
     }
-    kept[u] = w_at - row_start[u];
+    kept[u] = w_at - pl.row_start[u];
   }
   P.first_edge.assign(V + 1, 0);
   for (std::size_t u = 0; u < V; ++u) {
@@ -304,12 +300,15 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   P.adj_vertices.resize(P.first_edge[V]);
   P.edge_weights.resize(P.first_edge[V]);
   for (std::size_t u = 0; u < V; ++u) {
-    std::copy_n(cand.begin() + row_start[u], kept[u], P.adj_vertices.begin() + P.first_edge[u]);
-    std::copy_n(cand_w.begin() + row_start[u], kept[u], P.edge_weights.begin() + P.first_edge[u]);
+    std::copy_n(pl.other.begin() + pl.row_start[u], kept[u], P.adj_vertices.begin() + P.first_edge[u]);
+    std::copy_n(cand_w.begin() + pl.row_start[u], kept[u], P.edge_weights.begin() + P.first_edge[u]);
   }
   st.edges = P.adj_vertices.size();
+}
 
-  // 5. Components and isolated nodes.
+// Step 5: connected components (singletons included) and isolated nodes.
+void CountComponents(const RefineProblem& P, GraphStats& st) {
+  const std::size_t V = P.node_ids.size();
   std::vector<std::int32_t> parent(V);
   std::iota(parent.begin(), parent.end(), 0);
   std::vector<std::uint8_t> has_edge(V, 0);
@@ -324,13 +323,58 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     st.components += Find(parent, static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v);
     st.isolated += !has_edge[v];
   }
-  st.seconds_edges = stage.Seconds();
+}
+
+void AddGraphWarnings(GraphResult& out) {
+  const GraphStats& st = out.stats;
   if (st.excluded_nonfinite > 0)
     out.warnings.push_back(std::to_string(st.excluded_nonfinite) +
                            " Gaussians with non-finite parameters or features were excluded from the graph");
   if (st.zero_norm_features > 0)
     out.warnings.push_back(std::to_string(st.zero_norm_features) +
                            " candidate nodes have zero-norm features and get no semantic edges");
+}
+
+}  // namespace
+
+// Candidates → kNN → features and prior → gate and weights → components (SPEC §4).
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
+                             const std::vector<bool>& removed, const GraphOptions& options,
+                             const std::vector<std::uint8_t>* extra_seeds) {
+  Timer total;
+  const double gate = CheckGraphInputs(scene, features, removed, options, extra_seeds);
+  GraphResult out;
+  GraphStats& st = out.stats;
+  st.num_gaussians = scene.size();
+  st.feature_dim = static_cast<std::size_t>(features.cols());
+  st.gate_distance = gate;
+  Timer stage;
+  const SceneNodes nodes = ActiveGaussians(scene, features, removed, options, extra_seeds);
+  out.excluded.resize(scene.size());
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    out.excluded[i] = !nodes.active[i];
+    st.excluded_nonfinite += !nodes.active[i];
+  }
+  RefineProblem& P = out.problem;
+  const std::vector<float> node_xyz = SelectCandidates(nodes, removed, options, out);
+  st.seconds_candidates = stage.Seconds();
+  stage.Reset();
+  KnnOptions ko;
+  ko.k = options.k;
+  ko.checks = options.knn_checks;
+  const KnnResult knn = KnnAmongPoints(node_xyz, ko);
+  st.knn_tie_retries = knn.tie_retries;
+  st.seconds_knn = stage.Seconds();
+  stage.Reset();
+  const RowMatXf nf = NodeFeatures(features, P.node_ids, nodes.active, options, out.zero_norm, st.centred);
+  st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
+  if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
+  SpatialScale(knn, node_xyz, nodes, P, options, st);
+  PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());
+  GateAndWeigh(pairs, nf, out.zero_norm, node_xyz, gate, options, P, st);
+  CountComponents(P, st);
+  st.seconds_edges = stage.Seconds();
+  AddGraphWarnings(out);
   st.seconds_total = total.Seconds();
   return out;
 }
