@@ -72,6 +72,84 @@ nlohmann::json AutoTuneResult::ToJson() const {
   return j;
 }
 
+namespace {
+
+// Every (k, δ) graph once, solved for every λ (a pure factor of the weights, SPEC §4.6: rescaled
+// instead of rebuilt). Returns per candidate the scene indices the refinement changed.
+std::vector<std::vector<std::int64_t>> SolveGrid(const RefineInputs& inputs, const GraphOptions& base, Solver& solver,
+                                                 const DecisionOptions& decision, const AutoTuneOptions& o,
+                                                 AutoTuneResult& r) {
+  std::vector<std::vector<std::int64_t>> changed;
+  const std::vector<bool>& removed = inputs.removal.removed;
+  for (int k : o.k)
+    for (double delta : o.delta) {
+      GraphOptions go = base;
+      go.k = k;
+      go.delta = delta;
+      go.lambda = 1.0;
+      GraphResult graph = BuildGraphFor(inputs, go);
+      const std::vector<double> unit = graph.problem.edge_weights;
+      for (double lambda : o.lambda) {
+        for (std::size_t e = 0; e < unit.size(); ++e) graph.problem.edge_weights[e] = unit[e] * lambda;
+        go.lambda = lambda;
+        const SolveOutcome s = SolveAndDecide(inputs, graph, go, solver, decision);
+        AutoTuneCandidate c{k, delta, lambda};
+        c.empty_graph = s.empty_graph;
+        c.added = s.added;
+        c.restored = s.restored;
+        std::vector<std::int64_t> diff;
+        for (std::size_t i = 0; i < removed.size(); ++i)
+          if (s.refined[i] != removed[i]) diff.push_back(static_cast<std::int64_t>(i));
+        changed.push_back(std::move(diff));
+        if (inputs.ground_truth)
+          c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
+                                 inputs.ground_truth->opacity_logits).f1;
+        if (o.eval) c.eval = EvaluatePoint(*inputs.scene, *o.eval, s.refined);
+        r.candidates.push_back(std::move(c));
+      }
+    }
+  return changed;
+}
+
+// Stability: a candidate's mean Jaccard similarity of changed sets with its grid neighbours (one
+// step along one axis; index = (ik·nd + id)·nl + il).
+void StabilityScores(const AutoTuneOptions& o, const std::vector<std::vector<std::int64_t>>& changed,
+                     AutoTuneResult& r) {
+  const int K = static_cast<int>(o.k.size()), D = static_cast<int>(o.delta.size()), L = static_cast<int>(o.lambda.size());
+  const int steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  for (int ik = 0; ik < K; ++ik)
+    for (int id = 0; id < D; ++id)
+      for (int il = 0; il < L; ++il) {
+        const std::size_t self = (std::size_t(ik) * D + id) * L + il;
+        double sum = 0;
+        int n = 0;
+        for (const auto& st : steps) {
+          const int a = ik + st[0], b = id + st[1], c = il + st[2];
+          if (a < 0 || a >= K || b < 0 || b >= D || c < 0 || c >= L) continue;
+          sum += Jaccard(changed[self], changed[(std::size_t(a) * D + b) * L + c]);
+          ++n;
+        }
+        r.candidates[self].score = n ? sum / n : 1.0;
+      }
+}
+
+// Best and runner-up by score (ties go to the earlier grid point); best by ground truth if known.
+void RankCandidates(bool with_gt, AutoTuneResult& r) {
+  std::vector<std::size_t> order(r.candidates.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return r.candidates[a].score > r.candidates[b].score; });
+  r.best = order[0];
+  r.runner_up = order.size() > 1 ? order[1] : order[0];
+  if (!with_gt) return;
+  std::size_t g = 0;
+  for (std::size_t i = 1; i < r.candidates.size(); ++i)
+    if (*r.candidates[i].gt_f1 > *r.candidates[g].gt_f1) g = i;
+  r.best_by_gt = g;
+}
+
+}  // namespace
+
 AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, Solver& solver,
                         const DecisionOptions& decision, const AutoTuneOptions& o) {
   Timer timer;
@@ -82,42 +160,7 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
     if (!(l >= 0)) throw Error("--auto-lambda: lambda must be >= 0", ExitCode::kUsage);
   AutoTuneResult r;
   r.criterion = o.eval ? "eval" : "stability";
-  const std::size_t nd = o.delta.size(), nl = o.lambda.size();
-  std::vector<std::vector<std::int64_t>> changed;  // per candidate: scene indices added or restored
-  const std::vector<bool>& removed = inputs.removal.removed;
-
-  for (int k : o.k)
-    for (double delta : o.delta) {
-      GraphOptions go = base;
-      go.k = k;
-      go.delta = delta;
-      go.lambda = 1.0;
-      GraphResult graph = BuildGraphFor(inputs, go);
-      const std::vector<double> unit = graph.problem.edge_weights;
-      for (double lambda : o.lambda) {
-        // λ is a pure factor of every weight (SPEC §4.6): rescale instead of rebuilding.
-        for (std::size_t e = 0; e < unit.size(); ++e) graph.problem.edge_weights[e] = unit[e] * lambda;
-        go.lambda = lambda;
-        const SolveOutcome s = SolveAndDecide(inputs, graph, go, solver, decision);
-        AutoTuneCandidate c;
-        c.k = k;
-        c.delta = delta;
-        c.lambda = lambda;
-        c.empty_graph = s.empty_graph;
-        c.added = s.added;
-        c.restored = s.restored;
-        std::vector<std::int64_t> diff;
-        for (std::size_t i = 0; i < removed.size(); ++i)
-          if (s.refined[i] != removed[i]) diff.push_back(static_cast<std::int64_t>(i));
-        changed.push_back(std::move(diff));
-        if (inputs.ground_truth)
-          c.gt_f1 = ScoreRemoval(s.refined, inputs.ground_truth->labels, inputs.ground_truth->target,
-                                           inputs.ground_truth->opacity_logits).f1;
-        if (o.eval) c.eval = EvaluatePoint(*inputs.scene, *o.eval, s.refined);
-        r.candidates.push_back(std::move(c));
-      }
-    }
-
+  const auto changed = SolveGrid(inputs, base, solver, decision, o, r);
   // The eval criterion never optimises a view whose acc_Δdepth is flagged (docs/metrics.md); with
   // no view left it cannot decide, and stability does.
   bool stability = !o.eval;
@@ -128,39 +171,8 @@ AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, So
     for (std::size_t i = 0; scores && i < scores->size(); ++i) r.candidates[i].score = (*scores)[i];
     if (!scores) stability = true, r.criterion = "stability (eval: acc_delta_depth flagged in every view)";
   }
-  if (stability) {
-    // Neighbours: one grid step along one axis (index = (ik·nd + id)·nl + il).
-    const int K = static_cast<int>(o.k.size()), D = static_cast<int>(nd), L = static_cast<int>(nl);
-    for (int ik = 0; ik < K; ++ik)
-      for (int id = 0; id < D; ++id)
-        for (int il = 0; il < L; ++il) {
-          const std::size_t self = (std::size_t(ik) * nd + id) * nl + il;
-          double sum = 0;
-          int n = 0;
-          const int steps[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
-          for (const auto& st : steps) {
-            const int a = ik + st[0], b = id + st[1], c = il + st[2];
-            if (a < 0 || a >= K || b < 0 || b >= D || c < 0 || c >= L) continue;
-            sum += Jaccard(changed[self], changed[(std::size_t(a) * nd + b) * nl + c]);
-            ++n;
-          }
-          r.candidates[self].score = n ? sum / n : 1.0;
-        }
-  }
-
-  // Best and runner-up by score; ties go to the earlier grid point.
-  std::vector<std::size_t> order(r.candidates.size());
-  for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return r.candidates[a].score > r.candidates[b].score; });
-  r.best = order[0];
-  r.runner_up = order.size() > 1 ? order[1] : order[0];
-  if (inputs.ground_truth) {
-    std::size_t g = 0;
-    for (std::size_t i = 1; i < r.candidates.size(); ++i)
-      if (*r.candidates[i].gt_f1 > *r.candidates[g].gt_f1) g = i;
-    r.best_by_gt = g;
-  }
+  if (stability) StabilityScores(o, changed, r);
+  RankCandidates(inputs.ground_truth.has_value(), r);
   r.seconds = timer.Seconds();
   return r;
 }

@@ -15,6 +15,7 @@
 
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
+#include "al/refine/refine.hpp"
 #include "al/refine/stages.hpp"
 
 namespace al {
@@ -85,5 +86,18 @@ CompareResult CompareSolvers(const RefineInputs& inputs, const GraphResult& grap
 // status {"drawn", "message"}.
 void WriteCompareTables(const std::filesystem::path& dir, const CompareResult& result);
 nlohmann::json WriteCompareChart(const std::filesystem::path& dir, const CompareResult& result);
+
+// `compare` end to end: inputs → one graph → every planned run → compare.csv/.json, tradeoff.png,
+// report.json as one output set in refine.out_dir (and the problem plus one p per run in
+// refine.export_problem_dir when set). Options are checked before anything is loaded.
+struct CompareRunResult {
+  CompareResult compare;
+  nlohmann::json report;      // what report.json holds
+  bool chart_drawn = false;
+  std::string out_dir;
+  int exit_code = 0;          // 3 for an empty graph (the message says what to try)
+  std::string BriefReport() const;  // the table of runs (seconds, objective, gap, added, F1) and what was written
+};
+CompareRunResult RunCompare(const RefineOptions& refine, const CompareOptions& options);
 
 }  // namespace al
