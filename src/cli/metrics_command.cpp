@@ -22,8 +22,10 @@ class MetricsCommand : public Command {
     app.add_option("--dir", dir_, "Scene directory (masks/, gsam2/, depth/, sam/)")->required();
     app.add_option("--out", out_, "Output directory (default: DIR/al_metrics)");
     app.add_option("--object-masks", o_.object_masks, "Object masks, relative to DIR")->default_str("masks");
-    app.add_option("--seg-before", o_.seg_before, "Detector masks before removal")->default_str("gsam2/before/mask");
-    app.add_option("--seg-after", o_.seg_after, "Detector masks after removal")->default_str("gsam2/after/mask");
+    seg_flags_[0] = app.add_option("--seg-before", o_.seg_before, "Detector masks before removal (named: must exist)")
+                        ->default_str("gsam2/before/mask");
+    seg_flags_[1] = app.add_option("--seg-after", o_.seg_after, "Detector masks after removal (named: must exist)")
+                        ->default_str("gsam2/after/mask");
     app.add_option("--seg-class", o_.seg_class, "GroundedSAM JSON class to keep (default: all instances)");
     app.add_option("--depth-before", o_.depth_before, "8-bit depth before removal")->default_str("depth/before");
     app.add_option("--depth-after", o_.depth_after, "8-bit depth after removal")->default_str("depth/after");
@@ -54,6 +56,7 @@ class MetricsCommand : public Command {
     namespace fs = std::filesystem;
     const auto start = std::chrono::steady_clock::now();
     o_.dir = dir_;
+    o_.seg_folders_named = seg_flags_[0]->count() + seg_flags_[1]->count() > 0;
     o_.depth_holes = *metrics::DepthHolesFromName(holes_);
     const fs::path out = out_.empty() ? fs::path(dir_) / "al_metrics" : fs::path(out_);
     OutputSet set(out, OutputSetOptions("metrics", {dir_}, {"semantic.json", "depth.json", "sam.json", "collateral.json", "report.json"}));
@@ -91,6 +94,7 @@ class MetricsCommand : public Command {
 
  private:
   std::string dir_, out_, holes_ = "before";
+  CLI::Option* seg_flags_[2] = {nullptr, nullptr};
   metrics::DirectoryMetricsOptions o_;
 };
 

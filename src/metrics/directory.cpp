@@ -81,11 +81,13 @@ bool LoadObjectMask(const fs::path& path, Mask& out, std::vector<std::string>& w
 }
 
 // A detector folder that does not exist is scored as all-empty detections (METRICS.md §2.1, the
-// released behaviour); one warning names the absent folders.
-void WarnAbsentDetectorFolders(const fs::path& before, const fs::path& after, DirectoryMetricsResult& r) {
+// released behaviour); one warning names the absent folders. A folder the user named must exist.
+void WarnAbsentDetectorFolders(const fs::path& before, const fs::path& after, bool named, DirectoryMetricsResult& r) {
   std::vector<std::string> absent;
   for (const fs::path* d : {&before, &after})
     if (!IsDir(*d)) absent.push_back(d->string());
+  if (named && !absent.empty())
+    throw FileError(absent[0], "not a directory (named with --seg-before / --seg-after)");
   r.counts["semantic"]["absent_detector_folders"] = absent;
   if (absent.empty()) return;
   std::string list = absent[0];
@@ -99,7 +101,7 @@ void RunSemantic(const DirectoryMetricsOptions& o, DirectoryMetricsResult& r) {
   const fs::path objects = Resolve(o.dir, o.object_masks), before = Resolve(o.dir, o.seg_before),
                  after = Resolve(o.dir, o.seg_after);
   if (!IsDir(objects)) return r.skipped.push_back({"semantic", "no object mask directory " + objects.string()});
-  WarnAbsentDetectorFolders(before, after, r);
+  WarnAbsentDetectorFolders(before, after, o.seg_folders_named, r);
   std::size_t unreadable = 0;
   for (const auto& [stem, path] : ListByStem(objects, ".png")) {
     Gray8 object;

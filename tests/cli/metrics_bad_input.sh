@@ -38,4 +38,20 @@ mkdir -p "$TMP/empty"
 [ -f "$TMP/o4/report.json" ] || fail "no report.json"
 grep -q '"skipped"' "$TMP/o4/report.json" || fail "report.json lacks the skipped list"
 grep -q '"sim_sam"' "$TMP/o4/report.json" || fail "report.json does not say sim_sam was skipped"
+# Detector folders: absent at the standard path = empty detections and a warning (the released
+# evaluator); absent where the user named it = a typo, exit 2 naming the folder.
+mkdir -p "$TMP/g/masks"
+python3 - "$TMP/g/masks/v.png" <<'PY' || fail "could not write the test mask"
+import struct, sys, zlib  # an 8x8 white 8-bit grey PNG, without third-party modules
+def chunk(t, d): return struct.pack('>I', len(d)) + t + d + struct.pack('>I', zlib.crc32(t + d))
+raw = b''.join(b'\x00' + b'\xff' * 8 for _ in range(8))
+png = b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 8, 8, 8, 0, 0, 0, 0))
+open(sys.argv[1], 'wb').write(png + chunk(b'IDAT', zlib.compress(raw)) + chunk(b'IEND', b''))
+PY
+"$BIN" metrics --dir "$TMP/g" --out "$TMP/o5" 2>"$TMP/err5" >/dev/null || fail "absent default detector folders should succeed"
+grep -q "no detector mask folder" "$TMP/err5" "$TMP/o5/report.json" || fail "no warning about the absent folders"
+"$BIN" metrics --dir "$TMP/g" --seg-before gsam2/befor/mask --out "$TMP/o6" 2>"$TMP/err6" >/dev/null
+[ $? -eq 2 ] || fail "a named detector folder that does not exist should exit 2"
+grep -q "gsam2/befor/mask" "$TMP/err6" || fail "error does not name the folder: $(cat "$TMP/err6")"
+[ ! -e "$TMP/o6/report.json" ] || fail "report.json written on failure"
 echo "ok"

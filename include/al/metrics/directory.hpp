@@ -20,6 +20,9 @@ struct DirectoryMetricsOptions {
   std::filesystem::path dir;  // the scene directory; relative sub-paths below are taken from it
   std::filesystem::path object_masks = "masks";
   std::filesystem::path seg_before = "gsam2/before/mask", seg_after = "gsam2/after/mask";
+  // The user named seg_before / seg_after: an absent folder is then a typo (an error), not the
+  // released evaluator's "no detections" default that the standard layout gets.
+  bool seg_folders_named = false;
   std::filesystem::path depth_before = "depth/before", depth_after = "depth/after";
   std::filesystem::path sam_a = "masks";      // side A ("gt" in sam.json): SAM on the real photos
   std::filesystem::path sam_b = "sam/after";  // side B ("sam"): SAM on the after-removal renders
