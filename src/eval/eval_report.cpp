@@ -3,6 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
+#include "al/eval/view_metric.hpp"
+
 namespace al::eval {
 
 using json = nlohmann::json;
@@ -84,6 +86,10 @@ json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const E
   j["depth_float"]["depth_norm"] = metrics::DepthNormName(o.float_depth.depth_norm);
   if (s.semantic) j["semantic"] = SemanticSummaryJson(*s.semantic);
   if (s.feature) j["feature"] = FeatureSummaryJson(*s.feature);
+  if (!s.view_metrics.empty()) {  // the plug-in metrics (al/eval/view_metric.hpp)
+    json& vm = j["view_metrics"];
+    for (std::size_t k = 0; k < s.view_metrics.size(); ++k) vm[ViewMetrics()[k].name] = MeanStdJson(s.view_metrics[k]);
+  }
   if (s.sim_sam)
     j["sim_sam"] = {{"n_scored", s.sim_sam->count},
                     {"mean_sim_sam", s.sim_sam->mean},

@@ -7,6 +7,7 @@
 
 #include "al/core/html.hpp"
 #include "al/eval/records.hpp"
+#include "al/eval/view_metric.hpp"
 
 namespace al::eval {
 namespace {
@@ -118,7 +119,12 @@ std::string SummarySection(const json& columns) {
   std::vector<std::string> header = {"metric"};
   for (const json& c : columns) header.push_back(c.value("label", std::string("?")));
   std::set<std::string> shown, keys;
-  const std::vector<std::vector<std::string>> rows = NamedRows(columns, kSummaryRows, shown);
+  std::vector<std::vector<std::string>> rows = NamedRows(columns, kSummaryRows, shown);
+  for (const ViewMetric& metric : ViewMetrics()) {  // the plug-in metrics (al/eval/view_metric.hpp)
+    const std::string key = "view_metrics." + metric.name + ".mean";
+    shown.insert(key);
+    if (AnyHas(columns, key)) rows.push_back(MetricRow(columns, key, metric.label, metric.better, metric.digits));
+  }
   for (const json& c : columns)
     for (const auto& [key, value] : c.items())
       if (value.is_number()) keys.insert(key);

@@ -21,6 +21,7 @@
 #include "al/render/render_views.hpp"
 #include "al/eval/report_json.hpp"
 #include "al/eval/segmentations.hpp"
+#include "al/eval/view_metric.hpp"
 #include "al/metrics/removal_scores.hpp"
 #include "al/io/image.hpp"
 #include "al/metrics/collateral.hpp"
@@ -280,6 +281,8 @@ void ScoreView(EvalContext& ctx, const Camera& cam, ViewRenders& v, ViewRecord& 
     m.collateral_psnr = psnr.psnr;
     m.identical = psnr.identical;
     ScoreSegmentations(ctx, cam, c, has_seg_pre ? &seg_pre : nullptr, has_sam_a ? &sam_a : nullptr, v.object_gray, m);
+    for (const ViewMetric& metric : ViewMetrics())
+      m.view_metrics.push_back(metric.compute({*v.before, v.after[c], v.object_mask, v.changed[c]}));
     if (ctx.features.enabled()) {
       v.feature_seg[c] = ctx.features.Segment(v.after[c]);
       m.feature = ctx.features.Score(v.object_mask, v.feature_seg_before, v.feature_seg[c], cam.name);
@@ -385,6 +388,18 @@ void EvaluateView(EvalContext& ctx, const Camera& cam, EvalResult& r) {
   r.views.push_back(std::move(view));
 }
 
+// Mean and spread of each plug-in metric of column c over the evaluated views that define it.
+std::vector<metrics::MeanStd> SummarizeViewMetrics(const std::vector<ViewRecord>& views, std::size_t c) {
+  std::vector<metrics::MeanStd> out;
+  for (std::size_t k = 0; k < ViewMetrics().size(); ++k) {
+    std::vector<double> values;
+    for (const ViewRecord& v : views)
+      if (v.evaluated && v.columns[c].view_metrics[k]) values.push_back(*v.columns[c].view_metrics[k]);
+    out.push_back(metrics::ComputeMeanStd(values));
+  }
+  return out;
+}
+
 // Summaries over the evaluated views, per column.
 void SummarizeColumns(const EvalContext& ctx, EvalResult& r) {
   const std::size_t nc = ctx.columns.size();
@@ -411,6 +426,7 @@ void SummarizeColumns(const EvalContext& ctx, EvalResult& r) {
         else ++s.sim_sam_dropped;
       }
     }
+    s.view_metrics = SummarizeViewMetrics(r.views, c);
     s.depth8 = metrics::SummarizeDepth(d8);
     s.depth_float = metrics::SummarizeDepth(df);
     s.collateral_psnr = metrics::ComputeMeanStd(psnr);

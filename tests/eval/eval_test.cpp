@@ -12,6 +12,7 @@
 #include "al/core/error.hpp"
 #include "al/eval/eval.hpp"
 #include "al/eval/inputs.hpp"
+#include "al/eval/view_metric.hpp"
 #include "al/io/image.hpp"
 #include "test_data.hpp"
 
@@ -193,6 +194,40 @@ TEST(Eval, PerfectRemovalScoresOneEmptyRemovalZero) {
   // No staging folder is left behind.
   for (const auto& e : fs::directory_iterator(out.parent_path()))
     EXPECT_EQ(e.path().filename().string().find(".eval-tmp"), std::string::npos);
+}
+
+// Every metric of ViewMetrics() (al/eval/view_metric.hpp) reaches report.json, metrics.csv and
+// report.html; object_colour_change agrees with the scene's colours: 0 for the empty removal, about
+// |(0.9, 0.2, 0.2) − (0.3, 0.5, 0.7)| / 3 ≈ 0.467 where the wall replaces the whole object.
+TEST(Eval, PlugInMetricsReachEveryOutput) {
+  const fs::path out = test::TempDir() / "plugins";
+  const std::vector<EvalColumn> columns = {Col("after", "none", Removal(0.0)), Col("refined", "all", Removal(1.0))};
+  const EvalResult r = RunEval(Ball().scene, Ball().cameras, columns, FromLabels(), Options(out));
+  const std::vector<ViewMetric>& plugins = ViewMetrics();
+  std::size_t k = plugins.size();
+  for (std::size_t i = 0; i < plugins.size(); ++i)
+    if (plugins[i].name == "object_colour_change") k = i;
+  ASSERT_LT(k, plugins.size());
+  for (const ViewRecord& v : r.views) {
+    ASSERT_EQ(v.columns[0].view_metrics.size(), plugins.size());
+    EXPECT_EQ(v.columns[0].view_metrics[k], 0.0) << v.name;
+    ASSERT_TRUE(v.columns[1].view_metrics[k].has_value());
+    EXPECT_GT(*v.columns[1].view_metrics[k], 0.35) << v.name;  // the soft rim mixes both colours
+    EXPECT_LT(*v.columns[1].view_metrics[k], 0.4667 + 1e-3) << v.name;
+  }
+  const nlohmann::json report = ReadJson(out / "report.json");
+  for (const ViewMetric& p : plugins) {
+    const nlohmann::json& j = report["metrics"]["columns"][1]["view_metrics"][p.name];
+    EXPECT_EQ(j["count"], 3) << p.name;
+    EXPECT_NEAR(j["mean"].get<double>(), r.summaries[1].view_metrics[&p - plugins.data()].mean, 1e-12);
+    std::ifstream csv(out / "metrics.csv");
+    std::string header;
+    std::getline(csv, header);
+    EXPECT_NE(header.find("refined_" + p.name), std::string::npos) << header;
+    std::ifstream html(out / "report.html");
+    const std::string page((std::istreambuf_iterator<char>(html)), std::istreambuf_iterator<char>());
+    EXPECT_NE(page.find(p.label.substr(0, p.label.find(' '))), std::string::npos) << p.label;
+  }
 }
 
 // Ball() without the wall behind the object: only a strip at x < −3 remains (the left quarter of

@@ -77,6 +77,7 @@ struct ColumnViewMetrics {
   std::optional<metrics::SemanticRecord> semantic;
   std::optional<metrics::SimSamResult> sim_sam;
   std::optional<FeatureViewMetrics> feature;  // when the feature metrics run
+  std::vector<std::optional<double>> view_metrics;  // one per ViewMetrics() entry (al/eval/view_metric.hpp)
   std::size_t tiles_rendered = 0;
 };
 
@@ -98,6 +99,7 @@ struct ColumnSummary {
   std::optional<metrics::FeatureSummary> feature;
   std::size_t sim_sam_dropped = 0, sim_sam_missing = 0;
   std::size_t num_removed = 0;
+  std::vector<metrics::MeanStd> view_metrics;  // one per ViewMetrics() entry, over the views defining it
 };
 
 struct SkippedMetric {
@@ -138,6 +140,7 @@ struct TableRow {
   std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
   std::vector<std::optional<double>> iou_drop_feat, residual_feat;
   std::vector<int> acc_delta_depth_note;  // per method: footnote number (1-based into Table::notes) or 0
+  std::vector<std::vector<std::optional<double>>> view_metrics;  // per ViewMetrics() entry, one per method
 };
 // Footnote of an acc_Δdepth cell: the views whose value cannot be trusted (metrics::DepthTrust).
 struct DepthTrustNote {
