@@ -99,4 +99,13 @@ nlohmann::json ConvertOptionJson(OptionType type, const nlohmann::json& value, c
   return value;
 }
 
+void CheckOptionRange(const std::string& scope, const std::string& name, double value, const NumericRange& range,
+                      const std::string& help) {
+  if (range.Contains(value)) return;
+  const std::string text = range.Text();
+  throw Error(scope + " option '" + name + "' = " + FormatOptionNumber(value) + " must be " +
+                  (text.starts_with('[') || text.starts_with('(') ? "in " : "") + text + " (" + help + ")",
+              ExitCode::kUsage);
+}
+
 }  // namespace al

@@ -112,7 +112,13 @@ json DemoReport(const DemoOptions& o, const DemoResult& r, const fs::path& final
 
 }  // namespace
 
+void DemoOptions::Check() const {
+  if (out_dir.empty()) throw Error("demo: --out is required", ExitCode::kUsage);
+  synth.Check();
+}
+
 DemoResult RunDemo(const DemoOptions& o) {
+  o.Check();
   OutputSetOptions so;
   so.command = "demo";
   so.planned = {"scene", "refine_bk", "refine_cp", "eval", "report.json"};

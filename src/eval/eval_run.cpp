@@ -48,7 +48,7 @@ metrics::RgbImage ToRgbImage(const RenderOutput& r) { return {r.width, r.height,
 void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
               const ObjectSource& object, const EvalOptions& o) {
   const std::size_t n = scene.size();
-  if (o.out_dir.empty()) throw Error("eval: --out is required", ExitCode::kUsage);
+  o.Check();
   if (cameras.empty()) throw Error("eval: no views to evaluate", ExitCode::kBadInput);
   if (columns.empty()) throw Error("eval: nothing to evaluate (no removal given)", ExitCode::kUsage);
   std::map<std::string, int> names;
@@ -75,8 +75,6 @@ void Validate(const Scene& scene, const std::vector<Camera>& cameras, const std:
     if (std::find(object.labels.begin(), object.labels.end(), object.object_id) == object.labels.end())
       throw Error("eval: no Gaussian has object id " + std::to_string(object.object_id) + " in the labels");
   }
-  if (!(o.ght.nu >= 0) || !(o.ght.tau >= 0)) throw Error("eval: GHT nu and tau must be >= 0", ExitCode::kUsage);
-  if (const std::string problem = o.trust.Check(); !problem.empty()) throw Error("eval: " + problem, ExitCode::kUsage);
 }
 
 // acc_Δdepth of one column in both modes (METRICS.md §4–§6) with the trust flags; the 8-bit pair

@@ -1,6 +1,8 @@
 // FLANN kNN with deterministic tie-breaking (see knn.hpp).
 #include "al/graph/knn.hpp"
 
+#include "al/core/option_table.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -202,7 +204,13 @@ std::vector<std::int32_t> MortonOrder(std::span<const float> xyz) {
   return order;
 }
 
+void KnnOptions::Check() const {
+  CheckOptionRange("knn", "k", k, NumericRange::AtLeast(1), "neighbours per point");
+  CheckOptionRange("knn", "checks", checks, NumericRange::AtLeast(0), "0 = exact; > 0 approximate (FLANN checks)");
+}
+
 KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) {
+  options.Check();
   Timer timer;
   const std::size_t n = xyz.size() / 3;
   KnnResult result;

@@ -150,14 +150,17 @@ void RankCandidates(bool with_gt, AutoTuneResult& r) {
 
 }  // namespace
 
+void AutoTuneOptions::Check() const {
+  if (k.empty() || delta.empty() || lambda.empty()) throw Error("--auto: empty grid", ExitCode::kUsage);
+  for (int v : k) CheckOptionRange("auto", "k", v, NumericRange::Closed(1, 1000), "--auto-k: neighbours per node");
+  for (double v : delta) CheckOptionRange("auto", "delta", v, NumericRange::AtLeast(-1), "--auto-delta: semantic gate");
+  for (double v : lambda) CheckOptionRange("auto", "lambda", v, NumericRange::AtLeast(0), "--auto-lambda: edge weight scale");
+}
+
 AutoTuneResult AutoTune(const RefineInputs& inputs, const GraphOptions& base, Solver& solver,
                         const DecisionOptions& decision, const AutoTuneOptions& o) {
   Timer timer;
-  if (o.k.empty() || o.delta.empty() || o.lambda.empty()) throw Error("--auto: empty grid", ExitCode::kUsage);
-  for (int k : o.k)
-    if (k < 1) throw Error("--auto-k: k must be >= 1", ExitCode::kUsage);
-  for (double l : o.lambda)
-    if (!(l >= 0)) throw Error("--auto-lambda: lambda must be >= 0", ExitCode::kUsage);
+  o.Check();
   AutoTuneResult r;
   r.criterion = o.eval ? "eval" : "stability";
   const auto changed = SolveGrid(inputs, base, solver, decision, o, r);

@@ -91,11 +91,13 @@ std::string Short(double v) {
 
 }  // namespace
 
+void CompareOptions::Check() const { PlanSolverRuns(*this); }
+
 CompareRunResult RunCompare(const RefineOptions& o, const CompareOptions& co) {
   Timer total;
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
   o.Check();
-  PlanSolverRuns(co);  // usage errors before loading anything
+  co.Check();  // usage errors before loading anything
   OutputSet set(o.out_dir, CompareSetOptions(o));
   if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, CompareExportSetOptions(o));
   CompareRunResult out;

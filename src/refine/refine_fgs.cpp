@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "al/core/error.hpp"
+#include "al/core/option_table.hpp"
 #include "al/io/npy.hpp"
 #include "al/refine/fgs_mask.hpp"
 
@@ -42,7 +43,15 @@ RowMatXf ApplyDecoder(Eigen::Ref<const RowMatXf> features, const std::string& we
   return out;
 }
 
+void FgsMaskOptions::Check() const {
+  if (positives.empty()) throw Error("--positive: at least one prompt row is required", ExitCode::kUsage);
+  for (int p : positives) CheckOptionRange("fgs", "positive", p, NumericRange::AtLeast(0), "prompt rows naming the object");
+  CheckOptionRange("fgs", "threshold", threshold, NumericRange::Closed(0, 1),
+                   "FGS deletion threshold on the positives' summed softmax probability");
+}
+
 FgsMaskResult FgsDerivedMask(Eigen::Ref<const RowMatXf> features, const RowMatXf& prompts, const FgsMaskOptions& options) {
+  options.Check();
   const auto T = prompts.rows();
   if (T < 1) throw Error("--prompt-embeddings: no prompts", ExitCode::kBadInput);
   if (prompts.cols() != features.cols())

@@ -63,15 +63,7 @@ void CheckInputsExist(const SweepScene& s) {
 
 // Usage errors of the options, and one solver per grid solver (validates names and options).
 std::map<std::string, std::unique_ptr<Solver>> CheckOptionsAndMakeSolvers(const SweepOptions& o) {
-  if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
-  if (o.scenes.empty()) throw Error("sweep: no scene (give --scene/--removed or --manifest)", ExitCode::kUsage);
-  if (o.grid.size() == 0) throw Error("--grid: empty grid", ExitCode::kUsage);
-  for (const SweepScene& scene : o.scenes) scene.options.Check();
-  if (!o.solver_options.is_object()) throw Error("--solver-options: expected a JSON object {solver: {...}}", ExitCode::kUsage);
-  for (const auto& [name, value] : o.solver_options.items()) {
-    if (std::find(o.grid.solver.begin(), o.grid.solver.end(), name) == o.grid.solver.end())
-      throw Error("--solver-options: '" + name + "' is not a solver of the grid", ExitCode::kUsage);
-  }
+  o.Check();
   std::map<std::string, std::unique_ptr<Solver>> solvers;
   for (const auto& name : o.grid.solver) solvers[name] = MakeSolver(name, OptionsFor(o.solver_options, name));
   return solvers;
@@ -341,6 +333,17 @@ SweepResult RunSweep(const SweepOptions& o) {
   result.graphs_built = runner.graphs_built();
   FinishSweep(o, set, jsonl, result, report, total_timer, runner.load_seconds());
   return result;
+}
+
+void SweepOptions::Check() const {
+  if (out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
+  if (scenes.empty()) throw Error("sweep: no scene (give --scene/--removed or --manifest)", ExitCode::kUsage);
+  if (grid.size() == 0) throw Error("--grid: empty grid", ExitCode::kUsage);
+  for (const SweepScene& scene : scenes) scene.options.Check();
+  if (!solver_options.is_object()) throw Error("--solver-options: expected a JSON object {solver: {...}}", ExitCode::kUsage);
+  for (const auto& [name, value] : solver_options.items())
+    if (std::find(grid.solver.begin(), grid.solver.end(), name) == grid.solver.end())
+      throw Error("--solver-options: '" + name + "' is not a solver of the grid", ExitCode::kUsage);
 }
 
 }  // namespace al

@@ -15,6 +15,7 @@ using namespace render_internal;
 
 RenderOutput ReferenceRender(const Scene& scene, const Camera& camera, const RenderOptions& options,
                              const std::vector<bool>& exclude) {
+  options.Check();
   CheckInputs(scene, camera, exclude);
   const FeatureInput features = FeaturesOf(options, scene.size());
   const int dim = features.dim;

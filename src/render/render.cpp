@@ -35,6 +35,7 @@ void CompositeTiles(const Frame& frame, const std::vector<int>* tiles, const std
 
 void FullRender(const Scene& scene, const Camera& camera, const RenderOptions& options,
                 const std::vector<bool>& exclude, Frame& frame, RenderOutput& out) {
+  options.Check();
   CheckInputs(scene, camera, exclude);
   if (options.weight_subset != nullptr && options.weight_subset->size() != scene.size())
     throw Error("weight subset has " + std::to_string(options.weight_subset->size()) + " entries, scene has " +

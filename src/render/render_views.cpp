@@ -146,6 +146,7 @@ double EstimateRenderBytes(std::size_t gaussians, int width, int height, int fea
 }
 
 RenderViewsResult RenderViewsToFolder(const RenderViewsOptions& o) {
+  o.Check();
   OutputSetOptions so;
   so.command = "render";
   so.inputs = {o.scene, o.cameras, o.removed};

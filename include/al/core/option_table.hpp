@@ -71,6 +71,11 @@ struct NumericRange {
   std::string Text() const;  // "[1, 1000]", "(0, 1]", ">= 0", "> 0", "finite numbers"
 };
 
+// Check() of an options struct without a table, in the tables' words: throws Error(kUsage)
+// "SCOPE option 'NAME' = V must be in [lo, hi] (HELP)" when value is outside range (NaN always is).
+void CheckOptionRange(const std::string& scope, const std::string& name, double value, const NumericRange& range,
+                      const std::string& help);
+
 template <class O>
 class OptionTable {
  public:

@@ -28,6 +28,7 @@ struct DemoOptions {
   }();
   bool progress = true;                                // eval's progress bar
   std::function<void(const std::string& line)> on_step;  // one line per step (library code never prints)
+  void Check() const;  // out_dir given, and the synth options
 };
 
 struct DemoRefineRun {

@@ -62,6 +62,7 @@ struct EvalOptions {
   bool write_images = true;            // images/<view>_*.png (tests may turn it off)
   bool write_depth_pngs = true;        // depth/<column>/{before,after}/<view>.png (8-bit pairs, METRICS.md §6)
   bool progress = true;                // progress bar on stderr
+  void Check() const;  // out_dir given; render, GHT, float-depth, trust, semantic, sim_SAM and feature options
 };
 
 // Per view and column.

@@ -17,6 +17,7 @@ namespace al {
 struct KnnOptions {
   int k = 10;       // neighbours per point (fewer when the set is smaller)
   int checks = 0;   // 0 = exact; > 0 = approximate (randomized kd-trees, this many checks)
+  void Check() const;  // k >= 1, checks >= 0
 };
 
 struct KnnResult {

@@ -17,6 +17,7 @@ namespace al::metrics {
 // Generalized Histogram Thresholding (Barron, ECCV 2020) parameters; defaults = published values.
 struct GhtOptions {
   double nu = 1000, tau = 300, kappa = 0, omega = 0;
+  void Check() const;  // nu, tau, kappa >= 0; omega in [0, 1]
 };
 
 using Histogram256 = std::array<std::int64_t, 256>;
@@ -75,6 +76,7 @@ struct FloatDepthOptions {
   // counts as changed; kBoth: it is ignored like a pixel empty before.
   DepthHoles holes = DepthHoles::kBefore;
   GhtOptions ght;
+  void Check() const;  // alpha_hit in [0, 1), and the GHT options
 };
 std::vector<std::uint8_t> HitMask(const DepthRender& render, float alpha_hit);
 DepthChange DepthChangeFloat(const DepthRender& before, const DepthRender& after, const FloatDepthOptions& options = {});

@@ -25,6 +25,7 @@ SemanticRecord ComputeSemantic(const Gray8& object, const Gray8* before, const G
 struct SemanticOptions {
   std::vector<double> acc_seg_thresholds = {0.3, 0.5, 0.7, 0.9};  // fraction with IoU_post < ξ
   std::vector<double> table_thresholds = {0.5, 0.7, 0.9};         // percent with IoU_post > ξ
+  void Check() const;  // every threshold in [0, 1]
 };
 
 struct ThresholdValue {

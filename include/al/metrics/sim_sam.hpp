@@ -11,6 +11,7 @@ namespace al::metrics {
 struct SimSamOptions {
   double min_object_iou = 0.10;        // keep a segment iff IoU(segment, O) >= this (inclusive)
   std::uint8_t object_threshold = 128;  // object mask = luma > this
+  void Check() const;  // min_object_iou in [0, 1]
 };
 
 struct SimSamMatch {

@@ -29,6 +29,7 @@ struct AutoTuneOptions {
   std::vector<double> delta = {0.8, 1.0, 1.2};
   std::vector<double> lambda = {0.5, 1.0, 2.0};
   std::optional<PointEvalSetup> eval;  // set: the "eval" criterion, else "stability"
+  void Check() const;  // non-empty axes, k >= 1, delta finite, lambda >= 0
 };
 
 struct AutoTuneCandidate {

@@ -53,6 +53,7 @@ struct CompareOptions {
   DecisionOptions decision;
   // Called before / after each run (progress lines): run, index, total, finished row or null.
   std::function<void(const SolverRun&, std::size_t, std::size_t, const nlohmann::json* row)> on_run;
+  void Check() const;  // registered, unique solvers; a valid grid and per-solver options (PlanSolverRuns)
 };
 
 // The runs the options describe, in order: each solver of `solvers` in the given order (cp once

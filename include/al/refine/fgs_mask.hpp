@@ -12,6 +12,7 @@ namespace al {
 struct FgsMaskOptions {
   std::vector<int> positives;  // prompt rows that name the object (at least one)
   double threshold = 0.4;      // paper value; official configs use 0.198 / 0.24
+  void Check() const;  // at least one positive prompt row >= 0, threshold in [0, 1]
 };
 
 struct FgsMaskResult {

@@ -135,6 +135,7 @@ struct SweepOptions {
   std::string eval_views = "all";      // views evaluated when a scene has cameras
   std::function<void(const SweepProgress&)> on_point;        // progress (one call per point)
   bool dry_run = false;                // check options, every scene's inputs and out_dir; run and write nothing
+  void Check() const;  // out_dir, scenes and grid given; solver options only for the grid's solvers; every scene's options
 };
 
 struct SweepResult {

@@ -32,6 +32,7 @@ struct RenderOptions {
   // IncrementalRenderer keeps this pointer for After(): the matrix must outlive the renderer.
   // For D > kMaxFeatureChannels render a projection (al/render/feature_field.hpp).
   const RowMatXf* features = nullptr;
+  void Check() const;  // scale_modifier > 0, max_sh_degree in [0, 3], num_threads >= 0, finite background
 };
 
 // Most feature channels one render composites (64 floats per pixel = a 64 KiB tile accumulator).

@@ -22,6 +22,7 @@ struct RenderViewsOptions {
   std::string out_dir;                  // required
   bool progress = true;
   nlohmann::json params = nlohmann::json::object();  // the caller's flags, echoed in report.json
+  void Check() const;  // scene, cameras and out_dir given; width, height >= 0; the render options
 };
 
 struct RenderViewsResult {
