@@ -50,15 +50,7 @@ class RefineCommand : public Command {
     const RefineResult r = auto_ ? RunAuto(o) : RunRefine(o);
     for (const auto& w : r.report["warnings"])
       if (w.get<std::string>() != r.message) std::cerr << "warning: " << w.get<std::string>() << "\n";
-    const auto& c = r.report["counts"];
-    std::cout << "nodes " << c["candidates"] << ", edges " << c["edges"] << ", removed "
-              << c["removed_input"] << " -> " << c["refined"] << "\n";
-    if (r.report.contains("gt")) {
-      const auto& ch = r.report["gt"]["change"];
-      std::cout << "ground truth F1 " << r.report["gt"]["before"]["f1"] << " -> " << r.report["gt"]["after"]["f1"]
-                << "; misses recovered " << ch["misses_recovered"] << ", precision of the added "
-                << ch["precision_added"] << ", of the restored " << ch["precision_restored"] << "\n";
-    }
+    std::cout << r.BriefReport();
     (r.exit_code == 0 ? std::cout : std::cerr) << r.message << "\n";
     std::cout << "wrote " << o.out_dir << "/report.json\n";
     return r.exit_code;

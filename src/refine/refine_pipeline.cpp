@@ -201,6 +201,18 @@ RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
   return RefineLoaded(in, o, *solver, solver_name, std::move(report), total, &set);
 }
 
+std::string RefineResult::BriefReport() const {
+  const nlohmann::json& c = report["counts"];
+  std::string text = "nodes " + c["candidates"].dump() + ", edges " + c["edges"].dump() + ", removed " +
+                     c["removed_input"].dump() + " -> " + c["refined"].dump() + "\n";
+  if (!report.contains("gt")) return text;
+  const nlohmann::json& gt = report["gt"];
+  const nlohmann::json& ch = gt["change"];
+  return text + "ground truth F1 " + gt["before"]["f1"].dump() + " -> " + gt["after"]["f1"].dump() +
+         "; misses recovered " + ch["misses_recovered"].dump() + ", precision of the added " +
+         ch["precision_added"].dump() + ", of the restored " + ch["precision_restored"].dump() + "\n";
+}
+
 RefineResult RunRefine(const RefineOptions& o) {
   if (o.out_dir.empty()) throw Error("--out is required", ExitCode::kUsage);
   o.Check();  // bad options are refused before --out is touched

@@ -63,6 +63,9 @@ struct RefineResult {
   // The gist: status, message, counts, ground-truth scores before/after (when labels were
   // given), total seconds.
   nlohmann::json Summary() const;
+  // "nodes N, edges E, removed a -> b" and, with ground truth, "ground truth F1 x -> y; misses
+  // recovered ..., precision of the added ..., of the restored ..." (one line each).
+  std::string BriefReport() const;
 };
 
 // What to refine when it is already in memory (the Python module), in place of the files that
