@@ -101,11 +101,15 @@ nlohmann::json ConvertOptionJson(OptionType type, const nlohmann::json& value, c
 
 void CheckOptionRange(const std::string& scope, const std::string& name, double value, const NumericRange& range,
                       const std::string& help) {
-  if (range.Contains(value)) return;
-  const std::string text = range.Text();
-  throw Error(scope + " option '" + name + "' = " + FormatOptionNumber(value) + " must be " +
-                  (text.starts_with('[') || text.starts_with('(') ? "in " : "") + text + " (" + help + ")",
-              ExitCode::kUsage);
+  if (!range.Contains(value)) throw OptionOutOfRange(scope, name, FormatOptionNumber(value), range.Text(), help);
+}
+
+Error OptionOutOfRange(const std::string& scope, const std::string& name, const std::string& value,
+                       const std::string& range, const std::string& help) {
+  const bool interval = range.starts_with('[') || range.starts_with('(');
+  return Error(scope + " option '" + name + "' = " + value + " must be " + (interval ? "in " : "") + range + " (" +
+                   help + ")",
+               ExitCode::kUsage);
 }
 
 }  // namespace al

@@ -3,17 +3,12 @@
 #include "al/metrics/object_colour_change.hpp"
 
 namespace al::eval {
-namespace {
-
-metrics::RgbImage Rgb(const RenderOutput& r) { return {r.width, r.height, r.rgb}; }
-
-}  // namespace
 
 const std::vector<ViewMetric>& ViewMetrics() {
   static const std::vector<ViewMetric> metrics = {
       {"object_colour_change", "object colour change ↑ (mean |ΔRGB| over the object's pixels)",
        "$|\\Delta\\text{RGB}|_{\\text{obj}}\\uparrow$", +1, 3, false,
-       [](const ViewMetricInput& in) { return metrics::ObjectColourChange(Rgb(in.before), Rgb(in.after), in.object); }},
+       [](const ViewMetricInput& in) { return metrics::ObjectColourChange(in.before.rgb, in.after.rgb, in.object); }},
   };
   return metrics;
 }

@@ -379,7 +379,8 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   return out;
 }
 
-nlohmann::json GraphStatsToJson(const GraphStats& s) {
+nlohmann::json GraphStats::ToJson() const {
+  const GraphStats& s = *this;
   return {{"num_gaussians", s.num_gaussians},
           {"excluded_nonfinite", s.excluded_nonfinite},
           {"removed_nodes", s.removed_nodes},
@@ -404,8 +405,6 @@ nlohmann::json GraphStatsToJson(const GraphStats& s) {
                        {"edges", s.seconds_edges},
                        {"total", s.seconds_total}}}};
 }
-
-nlohmann::json GraphStats::ToJson() const { return GraphStatsToJson(*this); }
 
 std::string GraphStats::BriefReport() const {
   return "nodes " + std::to_string(nodes) + " (removed " + std::to_string(removed_nodes) + "), edges " +

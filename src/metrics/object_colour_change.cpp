@@ -8,11 +8,10 @@
 
 namespace al::metrics {
 
-std::optional<double> ObjectColourChange(const RgbImage& before, const RgbImage& after, const Mask& object) {
+std::optional<double> ObjectColourChange(std::span<const float> before, std::span<const float> after,
+                                         const Mask& object) {
   const std::size_t pixels = std::size_t(object.width) * std::size_t(object.height);
-  if (before.width != object.width || before.height != object.height || after.width != object.width ||
-      after.height != object.height || before.rgb.size() != 3 * pixels || after.rgb.size() != 3 * pixels ||
-      object.bits.size() != pixels)
+  if (before.size() != 3 * pixels || after.size() != 3 * pixels || object.bits.size() != pixels)
     throw Error("object colour change: renders and object mask differ in size", ExitCode::kInternal);
   double sum = 0;
   std::size_t count = 0;
@@ -20,7 +19,7 @@ std::optional<double> ObjectColourChange(const RgbImage& before, const RgbImage&
     if (!object.bits[p]) continue;
     double d = 0;
     for (int c = 0; c < 3; ++c)
-      d += std::fabs(std::clamp(double(before.rgb[3 * p + c]), 0.0, 1.0) - std::clamp(double(after.rgb[3 * p + c]), 0.0, 1.0));
+      d += std::fabs(std::clamp(double(before[3 * p + c]), 0.0, 1.0) - std::clamp(double(after[3 * p + c]), 0.0, 1.0));
     sum += d / 3.0;
     ++count;
   }

@@ -138,7 +138,7 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
                       {"excluded_nonfinite", gs.excluded_nonfinite}};
   report["removed_set"] = in.removal.stats;
   if (!in.fgs_mask.is_null()) report["fgs_mask"] = in.fgs_mask;
-  report["graph"] = GraphStatsToJson(gs);
+  report["graph"] = gs.ToJson();
   report["graph"]["rounds"] = grown.rounds;
   report["graph"]["growth_capped"] = grown.capped;
   report["solver"] = solved.solver;

@@ -21,9 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-// Graph statistics of a record: GraphStatsToJson without its timings (those go to "seconds").
+// Graph statistics of a record: GraphStats::ToJson without its timings (those go to "seconds").
 nlohmann::json GraphRecord(const GraphStats& stats) {
-  nlohmann::json g = GraphStatsToJson(stats);
+  nlohmann::json g = stats.ToJson();
   g.erase("seconds");
   return g;
 }

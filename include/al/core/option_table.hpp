@@ -75,6 +75,9 @@ struct NumericRange {
 // "SCOPE option 'NAME' = V must be in [lo, hi] (HELP)" when value is outside range (NaN always is).
 void CheckOptionRange(const std::string& scope, const std::string& name, double value, const NumericRange& range,
                       const std::string& help);
+// The usage error both checks throw: "SCOPE option 'NAME' = VALUE must be [in ]RANGE (HELP)".
+Error OptionOutOfRange(const std::string& scope, const std::string& name, const std::string& value,
+                       const std::string& range, const std::string& help);
 
 template <class O>
 class OptionTable {
@@ -148,10 +151,7 @@ class OptionTable {
   // Throws Error(kUsage) naming the first field outside its range.
   void Check(const O& options) const {
     for (const auto& f : fields_)
-      if (!f.in_range(options))
-        throw Error(scope_ + " option '" + f.name + "' = " + Spell(f.get(options)) + " must be " +
-                        (f.range.starts_with('[') || f.range.starts_with('(') ? "in " : "") + f.range + " (" +
-                        f.help + ")", ExitCode::kUsage);
+      if (!f.in_range(options)) throw OptionOutOfRange(scope_, f.name, Spell(f.get(options)), f.range, f.help);
   }
   // {name: value} of every field.
   nlohmann::json ToJson(const O& options) const {

@@ -70,7 +70,7 @@ struct GraphStats {
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
   double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;
 
-  nlohmann::json ToJson() const;  // report.json's "graph" block (GraphStatsToJson)
+  nlohmann::json ToJson() const;  // report.json's "graph" block
   std::string BriefReport() const;  // "nodes 1234 (removed 800), edges 5678 of 9000 kNN, 3 components"
 };
 
@@ -93,6 +93,5 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
 RowMatXf ColourFeatures(const Scene& scene);
 
-nlohmann::json GraphStatsToJson(const GraphStats& stats);
 
 }  // namespace al

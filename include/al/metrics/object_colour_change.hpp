@@ -4,13 +4,15 @@
 // more of what was seen there is gone. A plug-in of the evaluator (al/eval/view_metric.hpp).
 #pragma once
 #include <optional>
+#include <span>
 
-#include "al/metrics/collateral.hpp"
 #include "al/metrics/mask.hpp"
 
 namespace al::metrics {
 
-// nullopt when the mask is empty; throws al::Error when the sizes disagree.
-std::optional<double> ObjectColourChange(const RgbImage& before, const RgbImage& after, const Mask& object);
+// before / after: H*W*3 RGB of the object mask's size (read in place, no copy). nullopt when the
+// mask is empty; throws al::Error when the sizes disagree.
+std::optional<double> ObjectColourChange(std::span<const float> before, std::span<const float> after,
+                                         const Mask& object);
 
 }  // namespace al::metrics
