@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "al/core/error.hpp"
 
@@ -13,6 +15,17 @@ namespace {
 // Where the kept candidates' credit ramps, in robust standard deviations below the removed median
 // (chosen on the tuning half of the accuracy bench, docs/accuracy.md).
 constexpr double kCreditFull = 0.0, kCreditZero = 2.0;
+// ... or half-way to the kept candidates' median, when that reaches further (kCreditGapShare).
+constexpr double kCreditGapShare = 0.5;
+// The prototype credit ramps from 1.5 robust standard deviations below the trusted removed rows'
+// median cosine to 1 below it (B2 of issue 13 stops at about 1). From 2, a look-alike FGS had
+// half grabbed was completed (tests/refine/refine_accuracy_test.cpp).
+constexpr double kPrototypeFull = 1.0, kPrototypeZero = 1.5;
+// Removed Gaussians of the lower group are doubted only when that group stands apart from the
+// removed set: its mean at least 1.5 (full doubt from 2.5) of its standard deviations below the
+// removed median. Below that the lower group is the object's own tail (fgs-like masks on CLIP-like
+// fields restored up to 350 object Gaussians, docs/refine.md).
+constexpr double kSeparationZero = 1.5, kSeparationFull = 2.5;
 // A removed Gaussian is doubted only when the method kept a clear majority (two thirds) of its
 // group: at a bare majority, object parts whose features lean toward a neighbour (CLIP-like
 // fields, D = 512) were given back (docs/refine.md). The doubt fades out linearly between a
@@ -99,11 +112,87 @@ std::vector<double> UpperPosterior(const std::vector<double>& c, const std::vect
   return q;
 }
 
+// The spread of values around their median: (median, 1.4826·MAD, a robust standard deviation).
+std::pair<double, double> MedianAndSpread(std::vector<double> v) {
+  const double median = MedianOf(v);
+  for (double& x : v) x = std::abs(x - median);
+  return {median, 1.4826 * MedianOf(std::move(v))};
+}
+
+// Cosine of each row to the prototype: the mean direction of the removed rows marked `trusted`.
+// Zero rows get 0.
+std::vector<double> PrototypeCosine(const RowMatXf& f, const std::vector<double>& mask,
+                                    const std::vector<std::uint8_t>& has, const std::vector<std::uint8_t>& trusted) {
+  const std::size_t V = mask.size();
+  Eigen::VectorXd proto = Eigen::VectorXd::Zero(f.cols());
+  for (std::size_t v = 0; v < V; ++v)
+    if (has[v] && mask[v] >= 0.5 && trusted[v]) proto += f.row(Eigen::Index(v)).transpose().cast<double>();
+  if (proto.norm() > 0) proto.normalize();
+  std::vector<double> c(V, 0.0);
+  for (std::size_t v = 0; v < V; ++v) {
+    if (!has[v]) continue;
+    const Eigen::VectorXd row = f.row(Eigen::Index(v)).transpose().cast<double>();
+    c[v] = row.dot(proto) / std::max(row.norm(), 1e-12);
+  }
+  return c;
+}
+
+// The prototype credit of every row: 1 where its cosine to the prototype is within one robust
+// standard deviation of the trusted removed rows' median, 0 beyond two, linear between. Trusted:
+// every removed row, unless the prior doubts a removed group — then only the removed rows of the
+// upper ("object") group, so a table top GG's hull took does not become part of the prototype.
+std::vector<double> PrototypeCredit(const RowMatXf& f, const std::vector<double>& mask,
+                                    const std::vector<std::uint8_t>& has, const std::vector<double>& upper,
+                                    double doubt_removed, PriorStats& st) {
+  const std::size_t V = mask.size();
+  std::vector<std::uint8_t> trusted(V, 1);
+  if (doubt_removed > 0.0)
+    for (std::size_t v = 0; v < V; ++v) trusted[v] = upper[v] >= 0.5;
+  const std::vector<double> cosine = PrototypeCosine(f, mask, has, trusted);
+  std::vector<double> trusted_cosines;
+  for (std::size_t v = 0; v < V; ++v)
+    if (has[v] && mask[v] >= 0.5 && trusted[v]) trusted_cosines.push_back(cosine[v]);
+  st.prototype_rows = trusted_cosines.size();
+  std::tie(st.prototype_cos_median, st.prototype_cos_sigma) = MedianAndSpread(std::move(trusted_cosines));
+  const double full = st.prototype_cos_median - kPrototypeFull * st.prototype_cos_sigma;
+  const double zero = st.prototype_cos_median - kPrototypeZero * st.prototype_cos_sigma;
+  std::vector<double> credit(V, 0.0);
+  if (st.prototype_rows == 0 || !(full > zero)) return credit;
+  for (std::size_t v = 0; v < V; ++v)
+    if (has[v]) credit[v] = Ramp(cosine[v], zero, full);
+  return credit;
+}
+
 }  // namespace
 
 void PriorOptions::Check() const {
   if (!(weight >= 0.0 && weight <= 1.0)) throw Error("--prior-weight must be in [0, 1]", ExitCode::kUsage);
 }
+
+namespace {
+
+// The removed candidates' projections: median and spread (PriorStats), and the gap to the kept
+// candidates' median.
+double RemovedSpreadAndGap(const std::vector<double>& c, const std::vector<std::uint8_t>& has,
+                           const std::vector<double>& mask, PriorStats& st) {
+  std::vector<double> removed, kept;
+  for (std::size_t v = 0; v < c.size(); ++v)
+    if (has[v]) (mask[v] >= 0.5 ? removed : kept).push_back(c[v]);
+  std::tie(st.median_removed, st.sigma_removed) = MedianAndSpread(std::move(removed));
+  st.sigma_removed = std::max(st.sigma_removed, 1e-9);
+  return std::max(0.0, st.median_removed - MedianOf(std::move(kept)));
+}
+
+// How much the removed Gaussians of the lower group are doubted: only when the method kept most
+// of that group (removal rate) and the group stands apart from the removed set (separation) —
+// a distinct group such as GG's table top, not the broad lower tail of the object itself.
+double DoubtOfRemoved(PriorStats& st) {
+  st.separation = (st.median_removed - st.mean_lower) / std::max(st.sd_lower, 1e-12);
+  return Ramp(st.removal_rate_lower, kDoubtRemovedZero, kDoubtRemovedFull) *
+         Ramp(st.separation, kSeparationZero, kSeparationFull);
+}
+
+}  // namespace
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
                                  PriorStats* stats) {
@@ -120,25 +209,25 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   }
   std::vector<std::uint8_t> has;
   const std::vector<double> c = Project(f, mask, has);
-  std::vector<double> c_removed;
-  for (std::size_t v = 0; v < V; ++v)
-    if (has[v] && mask[v] >= 0.5) c_removed.push_back(c[v]);
-  st.median_removed = MedianOf(c_removed);
-  for (double& x : c_removed) x = std::abs(x - st.median_removed);
-  st.sigma_removed = std::max(1.4826 * MedianOf(std::move(c_removed)), 1e-9);
+  st.gap = RemovedSpreadAndGap(c, has, mask, st);
+  // "Within the removed set's spread" reaches down to 2σ below its median. For a kept Gaussian's
+  // credit it reaches half-way to the kept candidates' median when that is further: a tight object
+  // (CLIP-like fields) would otherwise deny credit to misses that lie far above everything the
+  // method kept. (Widening the removed side too held back GG's table restores.)
   const double full = st.median_removed - kCreditFull * st.sigma_removed;
   const double zero = st.median_removed - kCreditZero * st.sigma_removed;
+  const double zero_kept = st.median_removed - std::max(kCreditZero * st.sigma_removed, kCreditGapShare * st.gap);
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
-  const double doubt_removed = Ramp(st.removal_rate_lower, kDoubtRemovedZero, kDoubtRemovedFull);
+  const double doubt_removed = DoubtOfRemoved(st);
   const double doubt_kept = Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull);
+  const std::vector<double> credit = PrototypeCredit(f, mask, has, upper, doubt_removed, st);
   for (std::size_t v = 0; v < V; ++v) {
     if (!has[v]) continue;
     // Within the removed set's own spread a Gaussian looks like the removed ones: credit for a
     // kept one, no doubt for a removed one (whatever group the mixture put it in).
-    const double within = std::clamp((c[v] - zero) / (full - zero), 0.0, 1.0);
     double q = mask[v];
-    if (mask[v] >= 0.5) q += doubt_removed * (std::max(upper[v], within) - q);
-    else q += doubt_kept * (std::min(upper[v], within) - q);
+    if (mask[v] >= 0.5) q += doubt_removed * (std::max(upper[v], Ramp(c[v], zero, full)) - q);
+    else q += doubt_kept * (std::max(std::min(upper[v], Ramp(c[v], zero_kept, full)), credit[v]) - q);
     y[v] = (1.0 - o.weight) * mask[v] + o.weight * q;
     st.removed_doubted += mask[v] >= 0.5 && q < 0.5;
     st.kept_doubted += mask[v] < 0.5 && q > 0.5;
@@ -157,6 +246,11 @@ nlohmann::json PriorStats::ToJson() const {
           {"removal_rate_upper", removal_rate_upper},
           {"median_removed", median_removed},
           {"sigma_removed", sigma_removed},
+          {"gap", gap},
+          {"separation", separation},
+          {"prototype_rows", prototype_rows},
+          {"prototype_cos_median", prototype_cos_median},
+          {"prototype_cos_sigma", prototype_cos_sigma},
           {"removed_doubted", removed_doubted},
           {"kept_doubted", kept_doubted}};
 }

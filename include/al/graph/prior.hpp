@@ -43,6 +43,10 @@ struct PriorStats {
   double sd_lower = 0.0, sd_upper = 0.0;
   double removal_rate_lower = 0.0, removal_rate_upper = 0.0;  // share of each group in R
   double median_removed = 0.0, sigma_removed = 0.0;           // of the removed candidates
+  double gap = 0.0;         // median_removed − the kept candidates' median (≥ 0)
+  double separation = 0.0;  // (median_removed − mean_lower) / sd_lower
+  std::size_t prototype_rows = 0;  // trusted removed rows that make the prototype
+  double prototype_cos_median = 0.0, prototype_cos_sigma = 0.0;  // their cosines to it
   std::size_t removed_doubted = 0;  // removed candidates with q < 1/2
   std::size_t kept_doubted = 0;     // kept candidates with q > 1/2
   nlohmann::json ToJson() const;
