@@ -14,12 +14,15 @@
 // doubt fades in over a short range of removal rates, never a step: prior.cpp):
 //  - a removed Gaussian only if its group is the lower one, the method kept at least two thirds
 //    of that group (GG's hull takes part of the table top: restore it) and its projection lies
-//    below the removed set's own spread; a group the method took whole (a look-alike it grabbed,
-//    an object part whose features are off) is not second-guessed;
-//  - a kept Gaussian only if it belongs to the upper group, the method mostly removed that group,
-//    and its projection lies within the removed set's own spread.
+//    below the removed set's own spread, and the lower group stands apart from the removed set
+//    (separation ≥ 1.5 of its standard deviations; else it is the object's own tail); a group the method took whole (a
+//    look-alike it grabbed, an object part whose features are off) is not second-guessed;
+//  - a kept Gaussian only if the method mostly removed the upper group and either it belongs to
+//    that group with its projection within the removed set's own spread, or its cosine to the
+//    prototype (the mean of the trusted removed rows) is within the trusted rows' own spread.
 // "Within the spread": a ramp from 0 at median − 2σ to 1 at the median of the removed
-// candidates' projections (σ = 1.4826·MAD, a robust standard deviation).
+// candidates' projections (σ = 1.4826·MAD, a robust standard deviation); for kept Gaussians it
+// reaches half-way to the kept candidates' median when that is further (a tight object).
 // Everything is relative to the scene, so neither the feature dimension nor a component all
 // features share changes the prior.
 #pragma once
