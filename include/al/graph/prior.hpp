@@ -15,8 +15,9 @@
 //  - a removed Gaussian only if its group is the lower one, the method kept at least two thirds
 //    of that group (GG's hull takes part of the table top: restore it) and its projection lies
 //    below the removed set's own spread, and the lower group stands apart from the removed set
-//    (separation ≥ 1.5 of its standard deviations; else it is the object's own tail); a group the method took whole (a
-//    look-alike it grabbed, an object part whose features are off) is not second-guessed;
+//    (separation ≥ 1.5 of its standard deviations; else it is the object's own tail); a group
+//    the method took whole (a look-alike it grabbed, an object part whose features are off) is
+//    not second-guessed;
 //  - a kept Gaussian only if the method mostly removed the upper group and either it belongs to
 //    that group with its projection within the removed set's own spread, or its cosine to the
 //    prototype (the mean of the trusted removed rows) is within the trusted rows' own spread.
