@@ -17,6 +17,28 @@ OptionField<GraphOptions> PriorWeightField() {
   return f;
 }
 
+OptionField<GraphOptions> PrototypeCreditField() {
+  static const std::vector<std::pair<std::string, PrototypeCredit>> names = {
+      {"auto", PrototypeCredit::kAuto}, {"on", PrototypeCredit::kOn}, {"off", PrototypeCredit::kOff}};
+  OptionField<GraphOptions> f{"prototype_credit", OptionType::kChoice, "auto|on|off",
+                              "credit kept Gaussians close to the removed set's mean feature (auto: on for "
+                              "--method sags only)",
+                              false, {}, {}, {}};
+  f.get = [](const GraphOptions& o) {
+    for (const auto& [text, value] : names)
+      if (o.prior.prototype_credit == value) return nlohmann::json(text);
+    return nlohmann::json(nullptr);
+  };
+  f.set = [](GraphOptions& o, const nlohmann::json& v) {
+    for (const auto& [text, value] : names)
+      if (v.get<std::string>() == text) return void(o.prior.prototype_credit = value);
+    throw Error("graph option 'prototype_credit' must be one of auto|on|off, not '" + v.get<std::string>() + "'",
+                ExitCode::kUsage);
+  };
+  f.in_range = [](const GraphOptions&) { return true; };
+  return f;
+}
+
 }  // namespace
 
 const OptionTable<GraphOptions>& GraphOptions::Table() {
@@ -39,7 +61,8 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                "grow the candidate set around what the cut added and solve again, at most this many "
                "times (0 = fixed candidate set)")
           .Flag("centre", &O::centre_features, "centre semantic features on the scene mean")
-          .Custom(PriorWeightField());
+          .Custom(PriorWeightField())
+          .Custom(PrototypeCreditField());
   return table;
 }
 

@@ -141,7 +141,7 @@ std::vector<double> PrototypeCosine(const RowMatXf& f, const std::vector<double>
 // standard deviation of the trusted removed rows' median, 0 beyond two, linear between. Trusted:
 // every removed row, unless the prior doubts a removed group — then only the removed rows of the
 // upper ("object") group, so a table top GG's hull took does not become part of the prototype.
-std::vector<double> PrototypeCredit(const RowMatXf& f, const std::vector<double>& mask,
+std::vector<double> CreditFromPrototype(const RowMatXf& f, const std::vector<double>& mask,
                                     const std::vector<std::uint8_t>& has, const std::vector<double>& upper,
                                     double doubt_removed, PriorStats& st) {
   const std::size_t V = mask.size();
@@ -220,7 +220,9 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
   const double doubt_removed = DoubtOfRemoved(st);
   const double doubt_kept = Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull);
-  const std::vector<double> credit = PrototypeCredit(f, mask, has, upper, doubt_removed, st);
+  const std::vector<double> credit = o.prototype_credit == PrototypeCredit::kOff
+                                         ? std::vector<double>(V, 0.0)
+                                         : CreditFromPrototype(f, mask, has, upper, doubt_removed, st);
   for (std::size_t v = 0; v < V; ++v) {
     if (!has[v]) continue;
     // Within the removed set's own spread a Gaussian looks like the removed ones: credit for a

@@ -35,13 +35,17 @@ struct Preset {
   // says otherwise (GG writes its remaining scene as a PLY, never as a mask).
   RemovedIs subset_ply_is = RemovedIs::kRemoved;
   bool gc_polarity = false;
+  // The prior's prototype credit under --prototype-credit auto (al/graph/prior.hpp): only SAGS's
+  // misses are thin parts of the object alone; GG's and FGS's removed sets can hold a second
+  // object whose kept part it would credit (docs/accuracy.md).
+  bool prototype_credit = false;
 };
 
 Preset PresetFor(const std::string& method) {
   if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false};
   if (method == "gg") return {"obj_dc_,auto", RemovedIs::kRemaining, false};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
-  if (method == "sags") return {"auto", RemovedIs::kRemoved, false};
+  if (method == "sags") return {"auto", RemovedIs::kRemoved, false, true};
   if (method == "gc") return {"colour", RemovedIs::kRemoved, true};
   if (method == "generic") return {"auto", RemovedIs::kRemoved, false};
   throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
@@ -134,6 +138,10 @@ GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& opti
                             const std::vector<std::uint8_t>* extra_seeds) {
   GraphOptions go = options;
   go.normalize_features = !inputs.colour_fallback;
+  if (go.prior.prototype_credit == PrototypeCredit::kAuto)
+    go.prior.prototype_credit =
+        inputs.preset.is_object() && inputs.preset.value("prototype_credit", false) ? PrototypeCredit::kOn
+                                                                                    : PrototypeCredit::kOff;
   return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
 }
 
@@ -205,7 +213,8 @@ GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann
 nlohmann::json PresetJson(const Preset& preset) {
   return {{"features", preset.features},
           {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-          {"gc_polarity", preset.gc_polarity}};
+          {"gc_polarity", preset.gc_polarity},
+          {"prototype_credit", preset.prototype_credit}};
 }
 
 // The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).

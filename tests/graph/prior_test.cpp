@@ -54,6 +54,14 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   EXPECT_GT(st.kept_doubted, 200u);
   EXPECT_LE(st.removed_doubted, 10u);  // at most 1 % of the removed object
   EXPECT_GT(st.prototype_rows, 900u);
+  // Without the prototype credit (--prototype-credit off) no Gaussian gets more credit than with it.
+  al::PriorOptions off;
+  off.prototype_credit = al::PrototypeCredit::kOff;
+  al::PriorStats st_off;
+  const std::vector<double> y_off = al::FeaturePrior(r.f, r.mask, off, &st_off);
+  EXPECT_EQ(st_off.prototype_rows, 0u);
+  for (std::size_t i = 0; i < y.size(); ++i)
+    if (r.mask[i] < 0.5) EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
 }
 
 TEST(FeaturePrior, ATableTopTheHullTookIsDoubted) {

@@ -106,4 +106,26 @@ TEST(RefineAccuracy, ASplitLookAlikeIsNotCompleted) {
   EXPECT_GE(al::ScoreRemoval(out.refined, s.labels, s.target_id).f1, before - 0.01);
 }
 
+// --prototype-credit auto follows the preset (on for sags only); on/off override it.
+TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in;
+  in.scene = std::make_shared<const al::Scene>(s.scene);
+  in.SetFeatures(s.scene.features);
+  in.removal.removed = s.removed.at("fgs");
+  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  auto rows = [&](const nlohmann::json& preset, al::PrototypeCredit credit) {
+    in.preset = preset;
+    al::GraphOptions o;
+    o.prior.prototype_credit = credit;
+    return al::BuildGraphFor(in, o).stats.prior.prototype_rows;
+  };
+  using C = al::PrototypeCredit;
+  EXPECT_GT(rows({{"prototype_credit", true}}, C::kAuto), 0u);
+  EXPECT_EQ(rows({{"prototype_credit", false}}, C::kAuto), 0u);
+  EXPECT_EQ(rows(nullptr, C::kAuto), 0u);
+  EXPECT_GT(rows({{"prototype_credit", false}}, C::kOn), 0u);
+  EXPECT_EQ(rows({{"prototype_credit", true}}, C::kOff), 0u);
+}
+
 }  // namespace

@@ -36,8 +36,16 @@
 
 namespace al {
 
+// Whether a kept Gaussian may get credit from its cosine to the removed set's prototype. It finds
+// the thin parts SAGS-like masks miss, but where the removed set holds a second object (a table top
+// in GG's hull, a look-alike FGS grabbed) it credits that object's kept part too (docs/refine.md):
+// auto = on for --method sags, off for the other presets (resolved by al::RunRefine's stages);
+// a caller of FeaturePrior itself gets auto = on.
+enum class PrototypeCredit { kAuto, kOn, kOff };
+
 struct PriorOptions {
   double weight = 0.5;  // w in [0, 1]; 0 = the mask alone (SPEC §4.7)
+  PrototypeCredit prototype_credit = PrototypeCredit::kAuto;
   void Check() const;   // throws al::Error (usage) outside [0, 1]
 };
 
