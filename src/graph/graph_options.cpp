@@ -17,22 +17,21 @@ OptionField<GraphOptions> PriorWeightField() {
   return f;
 }
 
-OptionField<GraphOptions> PrototypeCreditField() {
-  static const std::vector<std::pair<std::string, PrototypeCredit>> names = {
-      {"auto", PrototypeCredit::kAuto}, {"on", PrototypeCredit::kOn}, {"off", PrototypeCredit::kOff}};
-  OptionField<GraphOptions> f{"prototype_credit", OptionType::kChoice, "auto|on|off",
-                              "credit kept Gaussians close to the removed set's mean feature (auto: on for "
-                              "--method sags only)",
-                              false, {}, {}, {}};
-  f.get = [](const GraphOptions& o) {
+// An auto|on|off switch of the prior (nested struct: the table's member pointers cannot reach it).
+OptionField<GraphOptions> PriorSwitchField(const std::string& name, PriorSwitch PriorOptions::*member,
+                                           const std::string& help) {
+  static const std::vector<std::pair<std::string, PriorSwitch>> names = {
+      {"auto", PriorSwitch::kAuto}, {"on", PriorSwitch::kOn}, {"off", PriorSwitch::kOff}};
+  OptionField<GraphOptions> f{name, OptionType::kChoice, "auto|on|off", help, false, {}, {}, {}};
+  f.get = [member](const GraphOptions& o) {
     for (const auto& [text, value] : names)
-      if (o.prior.prototype_credit == value) return nlohmann::json(text);
+      if (o.prior.*member == value) return nlohmann::json(text);
     return nlohmann::json(nullptr);
   };
-  f.set = [](GraphOptions& o, const nlohmann::json& v) {
+  f.set = [name, member](GraphOptions& o, const nlohmann::json& v) {
     for (const auto& [text, value] : names)
-      if (v.get<std::string>() == text) return void(o.prior.prototype_credit = value);
-    throw Error("graph option 'prototype_credit' must be one of auto|on|off, not '" + v.get<std::string>() + "'",
+      if (v.get<std::string>() == text) return void(o.prior.*member = value);
+    throw Error("graph option '" + name + "' must be one of auto|on|off, not '" + v.get<std::string>() + "'",
                 ExitCode::kUsage);
   };
   f.in_range = [](const GraphOptions&) { return true; };
@@ -62,7 +61,12 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                "times (0 = fixed candidate set)")
           .Flag("centre", &O::centre_features, "centre semantic features on the scene mean")
           .Custom(PriorWeightField())
-          .Custom(PrototypeCreditField());
+          .Custom(PriorSwitchField("prototype_credit", &PriorOptions::prototype_credit,
+                                   "credit kept Gaussians close to the removed set's mean feature (auto: on "
+                                   "for --method sags only)"))
+          .Custom(PriorSwitchField("wide_credit", &PriorOptions::wide_credit,
+                                   "credit kept Gaussians half-way down to the kept ones' projection, for a "
+                                   "tight object (auto: on for --method fgs only)"));
   return table;
 }
 

@@ -216,11 +216,14 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   // method kept. (Widening the removed side too held back GG's table restores.)
   const double full = st.median_removed - kCreditFull * st.sigma_removed;
   const double zero = st.median_removed - kCreditZero * st.sigma_removed;
-  const double zero_kept = st.median_removed - std::max(kCreditZero * st.sigma_removed, kCreditGapShare * st.gap);
+  const double zero_kept =
+      o.wide_credit == PriorSwitch::kOff
+          ? zero
+          : st.median_removed - std::max(kCreditZero * st.sigma_removed, kCreditGapShare * st.gap);
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
   const double doubt_removed = DoubtOfRemoved(st);
   const double doubt_kept = Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull);
-  const std::vector<double> credit = o.prototype_credit == PrototypeCredit::kOff
+  const std::vector<double> credit = o.prototype_credit == PriorSwitch::kOff
                                          ? std::vector<double>(V, 0.0)
                                          : CreditFromPrototype(f, mask, has, upper, doubt_removed, st);
   for (std::size_t v = 0; v < V; ++v) {

@@ -39,10 +39,13 @@ struct Preset {
   // misses are thin parts of the object alone; GG's and FGS's removed sets can hold a second
   // object whose kept part it would credit (docs/accuracy.md).
   bool prototype_credit = false;
+  // ... and its wide credit window: FGS misses sit just below a tight object; GG's hull puts table
+  // top in the object group, whose kept part the wide window would credit.
+  bool wide_credit = false;
 };
 
 Preset PresetFor(const std::string& method) {
-  if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false};
+  if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false, false, true};
   if (method == "gg") return {"obj_dc_,auto", RemovedIs::kRemaining, false};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
   if (method == "sags") return {"auto", RemovedIs::kRemoved, false, true};
@@ -134,14 +137,18 @@ void WarnIfMostOfTheScene(const RefineInputs& in, nlohmann::json& report) {
         "): check --removed and --removed-is");
 }
 
+// auto = what the preset says (off without a preset: the generic model).
+void ResolvePriorSwitch(const nlohmann::json& preset, const char* key, PriorSwitch& value) {
+  if (value != PriorSwitch::kAuto) return;
+  value = preset.is_object() && preset.value(key, false) ? PriorSwitch::kOn : PriorSwitch::kOff;
+}
+
 GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
                             const std::vector<std::uint8_t>* extra_seeds) {
   GraphOptions go = options;
   go.normalize_features = !inputs.colour_fallback;
-  if (go.prior.prototype_credit == PrototypeCredit::kAuto)
-    go.prior.prototype_credit =
-        inputs.preset.is_object() && inputs.preset.value("prototype_credit", false) ? PrototypeCredit::kOn
-                                                                                    : PrototypeCredit::kOff;
+  ResolvePriorSwitch(inputs.preset, "prototype_credit", go.prior.prototype_credit);
+  ResolvePriorSwitch(inputs.preset, "wide_credit", go.prior.wide_credit);
   return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
 }
 
@@ -214,7 +221,8 @@ nlohmann::json PresetJson(const Preset& preset) {
   return {{"features", preset.features},
           {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
           {"gc_polarity", preset.gc_polarity},
-          {"prototype_credit", preset.prototype_credit}};
+          {"prototype_credit", preset.prototype_credit},
+          {"wide_credit", preset.wide_credit}};
 }
 
 // The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).

@@ -56,7 +56,7 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   EXPECT_GT(st.prototype_rows, 900u);
   // Without the prototype credit (--prototype-credit off) no Gaussian gets more credit than with it.
   al::PriorOptions off;
-  off.prototype_credit = al::PrototypeCredit::kOff;
+  off.prototype_credit = al::PriorSwitch::kOff;
   al::PriorStats st_off;
   const std::vector<double> y_off = al::FeaturePrior(r.f, r.mask, off, &st_off);
   EXPECT_EQ(st_off.prototype_rows, 0u);

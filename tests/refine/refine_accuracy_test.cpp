@@ -114,13 +114,13 @@ TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
   in.SetFeatures(s.scene.features);
   in.removal.removed = s.removed.at("fgs");
   for (bool b : in.removal.removed) in.removal.num_removed += b;
-  auto rows = [&](const nlohmann::json& preset, al::PrototypeCredit credit) {
+  auto rows = [&](const nlohmann::json& preset, al::PriorSwitch credit) {
     in.preset = preset;
     al::GraphOptions o;
     o.prior.prototype_credit = credit;
     return al::BuildGraphFor(in, o).stats.prior.prototype_rows;
   };
-  using C = al::PrototypeCredit;
+  using C = al::PriorSwitch;
   EXPECT_GT(rows({{"prototype_credit", true}}, C::kAuto), 0u);
   EXPECT_EQ(rows({{"prototype_credit", false}}, C::kAuto), 0u);
   EXPECT_EQ(rows(nullptr, C::kAuto), 0u);

@@ -36,16 +36,20 @@
 
 namespace al {
 
-// Whether a kept Gaussian may get credit from its cosine to the removed set's prototype. It finds
-// the thin parts SAGS-like masks miss, but where the removed set holds a second object (a table top
-// in GG's hull, a look-alike FGS grabbed) it credits that object's kept part too (docs/refine.md):
-// auto = on for --method sags, off for the other presets (resolved by al::RunRefine's stages);
-// a caller of FeaturePrior itself gets auto = on.
-enum class PrototypeCredit { kAuto, kOn, kOff };
+// Two ways a kept Gaussian can get more credit; each finds misses of one kind of method, and each
+// credits the kept part of a second object when the removed set holds one (a table top in GG's
+// hull, a look-alike FGS grabbed; docs/refine.md). auto = per --method preset (resolved by
+// al::RunRefine's stages); a caller of FeaturePrior itself gets auto = on.
+//  - prototype_credit: credit from the cosine to the removed set's prototype (thin parts SAGS
+//    misses); auto = on for sags only;
+//  - wide_credit: the kept side's "within the spread" window reaches half-way to the kept median
+//    (FGS's misses just below a tight object); auto = on for fgs only.
+enum class PriorSwitch { kAuto, kOn, kOff };
 
 struct PriorOptions {
   double weight = 0.5;  // w in [0, 1]; 0 = the mask alone (SPEC §4.7)
-  PrototypeCredit prototype_credit = PrototypeCredit::kAuto;
+  PriorSwitch prototype_credit = PriorSwitch::kAuto;
+  PriorSwitch wide_credit = PriorSwitch::kAuto;
   void Check() const;   // throws al::Error (usage) outside [0, 1]
 };
 
