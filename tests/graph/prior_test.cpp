@@ -47,19 +47,23 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   for (int i = 0; i < 300; ++i) AddRow(r, rng, 0, 0.15, false, 1);
   for (int i = 0; i < 2000; ++i) AddRow(r, rng, 1 + i % 3, 0.3, false, 0);
   al::PriorStats st;
-  const std::vector<double> y = al::FeaturePrior(r.f, r.mask, {}, &st);
+  al::PriorOptions on;
+  on.prototype_credit = on.wide_credit = al::PriorSwitch::kOn;
+  const std::vector<double> y = al::FeaturePrior(r.f, r.mask, on, &st);
   EXPECT_GT(MeanY(r, y, 1, false), 0.35);   // misses: mostly neutral (y = 1/2)
   EXPECT_LT(MeanY(r, y, 0, false), 0.01);   // background keeps its firm label
-  EXPECT_GT(MeanY(r, y, 1, true), 0.99);    // removed object not doubted
+  EXPECT_GT(MeanY(r, y, 1, true), 0.99);    // removed object not doubted (y = 1 at any weight)
   EXPECT_GT(st.kept_doubted, 200u);
   EXPECT_LE(st.removed_doubted, 10u);  // at most 1 % of the removed object
   EXPECT_GT(st.prototype_rows, 900u);
   // Without the prototype credit (--prototype-credit off) no Gaussian gets more credit than with it.
-  al::PriorOptions off;
+  al::PriorOptions off = on;
   off.prototype_credit = al::PriorSwitch::kOff;
   al::PriorStats st_off;
   const std::vector<double> y_off = al::FeaturePrior(r.f, r.mask, off, &st_off);
   EXPECT_EQ(st_off.prototype_rows, 0u);
+  EXPECT_DOUBLE_EQ(st_off.weight, 0.5);  // with the credit, the features weigh 0.55
+  EXPECT_DOUBLE_EQ(st.weight, 0.55);
   for (std::size_t i = 0; i < y.size(); ++i)
     if (r.mask[i] < 0.5) EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
 }

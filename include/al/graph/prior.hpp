@@ -39,9 +39,9 @@ namespace al {
 // Two ways a kept Gaussian can get more credit; each finds misses of one kind of method, and each
 // credits the kept part of a second object when the removed set holds one (a table top in GG's
 // hull, a look-alike FGS grabbed; docs/refine.md). auto = per --method preset (resolved by
-// al::RunRefine's stages); a caller of FeaturePrior itself gets auto = on.
+// al::RunRefine's stages); a caller of FeaturePrior or BuildRefineGraph itself gets auto = off.
 //  - prototype_credit: credit from the cosine to the removed set's prototype (thin parts SAGS
-//    misses); auto = on for sags only;
+//    misses), and with it the prior's weight + 0.05; auto = on for sags only;
 //  - wide_credit: the kept side's "within the spread" window reaches half-way to the kept median
 //    (FGS's misses just below a tight object); auto = on for fgs only.
 enum class PriorSwitch { kAuto, kOn, kOff };
