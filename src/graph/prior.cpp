@@ -168,14 +168,6 @@ std::vector<double> CreditFromPrototype(const RowMatXf& f, const std::vector<dou
   return credit;
 }
 
-}  // namespace
-
-void PriorOptions::Check() const {
-  if (!(weight >= 0.0 && weight <= 1.0)) throw Error("--prior-weight must be in [0, 1]", ExitCode::kUsage);
-}
-
-namespace {
-
 // The removed candidates' projections: median and spread (PriorStats), and the gap to the kept
 // candidates' median.
 double RemovedSpreadAndGap(const std::vector<double>& c, const std::vector<std::uint8_t>& has,
@@ -198,6 +190,10 @@ double DoubtOfRemoved(PriorStats& st) {
 }
 
 }  // namespace
+
+void PriorOptions::Check() const {
+  if (!(weight >= 0.0 && weight <= 1.0)) throw Error("--prior-weight must be in [0, 1]", ExitCode::kUsage);
+}
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
                                  PriorStats* stats) {

@@ -45,12 +45,12 @@ struct Preset {
 };
 
 Preset PresetFor(const std::string& method) {
-  if (method == "fgs") return {"semantic_", RemovedIs::kRemoved, false, false, true};
-  if (method == "gg") return {"obj_dc_,auto", RemovedIs::kRemaining, false};
+  if (method == "fgs") return {.features = "semantic_", .wide_credit = true};
+  if (method == "gg") return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
-  if (method == "sags") return {"auto", RemovedIs::kRemoved, false, true};
-  if (method == "gc") return {"colour", RemovedIs::kRemoved, true};
-  if (method == "generic") return {"auto", RemovedIs::kRemoved, false};
+  if (method == "sags") return {.features = "auto", .prototype_credit = true};
+  if (method == "gc") return {.features = "colour", .gc_polarity = true};
+  if (method == "generic") return {.features = "auto"};
   throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
 }
 
