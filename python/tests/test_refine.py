@@ -65,7 +65,7 @@ def test_table_options_reach_the_library(synth):
     p = r.report["params"]
     assert (p["k"], p["delta"], p["spatial"], p["threshold"], p["restore"], p["kl_smoothing"]) == \
         (6, 1.0, False, "percentile:90", False, 0.2)
-    assert (p["grow_rounds"], p["centre"], p["prior_weight"], p["min_segment_share"]) == (0, False, 0.25, 0.5)
+    assert (p["grow_rounds"], p["centre"], p["prior_weight"], p["min_segment_share"]) == (0, "off", 0.25, 0.5)
     assert r.report["graph"]["rounds"] == 1
     cp = al.refine(synth.scene, synth.removed["fgs"], solver="cp", cp_it_max=3)
     assert cp.report["params"]["solver_options"] == {"cp_it_max": 3}

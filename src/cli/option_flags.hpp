@@ -35,6 +35,14 @@ std::string TypeName(const OptionField<O>& field) {
   return "TEXT";
 }
 
+// A choice that names "off" among its values (auto|on|off): it gets a --no- flag, as a flag does.
+template <class O>
+bool HasOffChoice(const OptionField<O>& field) {
+  if (field.type != OptionType::kChoice) return false;
+  const std::string names = "|" + field.range + "|";
+  return names.find("|off|") != std::string::npos;
+}
+
 // Adds every field of `table` (except those named in `skip`) to `app`, bound to `options`, whose
 // values at this call are the defaults shown. `options` must outlive parsing.
 template <class O>
@@ -55,7 +63,7 @@ void AddOptionFlags(CLI::App& app, const OptionTable<O>& table, O& options, cons
       app.add_flag_callback(flag, [store] { store(true, false); }, help)->group(group);
       continue;
     }
-    if (field.type == OptionType::kFlag) {  // --spatial off and --no-spatial say the same
+    if (field.type == OptionType::kFlag || HasOffChoice(field)) {  // --spatial off = --no-spatial
       std::string no = "--no-" + flag.substr(2);
       app.add_flag_callback(no, [store] { store(false, false); }, "same as " + flag + " off")->group(group);
     }

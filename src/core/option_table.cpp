@@ -91,8 +91,10 @@ nlohmann::json ConvertOptionJson(OptionType type, const nlohmann::json& value, c
     case OptionType::kFlag:
       if (!value.is_boolean()) throw Error(what + " must be true or false, not " + value.dump(), ExitCode::kUsage);
       return value;
+    case OptionType::kChoice:  // a choice with on|off among its names takes a boolean too
+      if (value.is_boolean()) return nlohmann::json(value.get<bool>() ? "on" : "off");
+      break;
     case OptionType::kText:
-    case OptionType::kChoice:
       break;
   }
   if (!value.is_string()) throw Error(what + " must be a string, not " + value.dump(), ExitCode::kUsage);

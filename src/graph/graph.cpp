@@ -54,21 +54,28 @@ Eigen::VectorXd SceneFeatureMean(Eigen::Ref<const RowMatXf> features, const std:
   return n ? Eigen::VectorXd(sum / double(n)) : sum;
 }
 
+// Whether to centre, given the options and the scene's mean unit feature (graph.hpp, Centring).
+bool ShouldCentre(const GraphOptions& o, const Eigen::VectorXd& mean) {
+  if (!o.normalize_features || o.centre == Centring::kOff) return false;
+  // All features parallel: centring would leave nothing (and there is nothing to centre away).
+  if (mean.norm() >= 1.0 - 1e-6) return false;
+  return o.centre != Centring::kShared || mean.norm() >= kSharedComponentNorm;
+}
+
 // The nodes' feature rows as the gate and the prior see them: unit rows, centred on the scene
 // mean and normalised again when asked (zero rows for zero norm, flagged); raw rows (colour).
 RowMatXf NodeFeatures(Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids,
                       const std::vector<std::uint8_t>& active, const GraphOptions& o,
-                      std::vector<std::uint8_t>& zero_norm, bool& centred) {
+                      std::vector<std::uint8_t>& zero_norm, GraphStats& stats) {
   const std::size_t V = node_ids.size();
   const Eigen::Index D = features.cols();
   RowMatXf out(Eigen::Index(V), D);
   zero_norm.assign(V, 0);
   Eigen::VectorXd mean = Eigen::VectorXd::Zero(D);
-  bool centre = o.normalize_features && o.centre_features;
-  if (centre) mean = SceneFeatureMean(features, active);
-  // All features parallel: centring would leave nothing (and there is nothing to centre away).
-  if (centre && mean.norm() >= 1.0 - 1e-6) centre = false;
-  centred = centre;
+  if (o.normalize_features && o.centre != Centring::kOff) mean = SceneFeatureMean(features, active);
+  const bool centre = ShouldCentre(o, mean);
+  stats.common_component = mean.norm();
+  stats.centred = centre;
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(static)
   for (std::int64_t v = 0; v < vv; ++v) {
@@ -366,7 +373,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.knn_tie_retries = knn.tie_retries;
   st.seconds_knn = stage.Seconds();
   stage.Reset();
-  const RowMatXf nf = NodeFeatures(features, P.node_ids, nodes.active, options, out.zero_norm, st.centred);
+  const RowMatXf nf = NodeFeatures(features, P.node_ids, nodes.active, options, out.zero_norm, st);
   st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
   if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
   SpatialScale(knn, node_xyz, nodes, P, options, st);
@@ -399,6 +406,7 @@ nlohmann::json GraphStats::ToJson() const {
           {"sigma_x", s.sigma_x},
           {"sigma_x_source", s.sigma_x_source},
           {"features_centred", s.centred},
+          {"features_common_component", s.common_component},
           {"prior", s.prior.ToJson()},
           {"seconds", {{"candidates", s.seconds_candidates},
                        {"knn", s.seconds_knn},

@@ -59,7 +59,12 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Int("grow_rounds", &O::grow_rounds, R::Closed(0, 1000),
                "grow the candidate set around what the cut added and solve again, at most this many "
                "times (0 = fixed candidate set)")
-          .Flag("centre", &O::centre_features, "centre semantic features on the scene mean")
+          .Choice("centre", &O::centre,
+                  {{"auto", Centring::kAuto}, {"on", Centring::kOn}, {"off", Centring::kOff},
+                   {"shared", Centring::kShared}},
+                  "centre semantic features on the scene mean; shared = only when they share a strong "
+                  "common component (CLIP-like: |mean unit feature| >= 0.7); auto: shared for --method fgs, "
+                  "else on")
           .Custom(PriorWeightField())
           .Custom(PriorSwitchField("prototype_credit", &PriorOptions::prototype_credit,
                                    "credit kept Gaussians close to the removed set's mean feature (auto: on "

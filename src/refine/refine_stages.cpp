@@ -42,10 +42,13 @@ struct Preset {
   // ... and its wide credit window: FGS misses sit just below a tight object; GG's hull puts table
   // top in the object group, whose kept part the wide window would credit.
   bool wide_credit = false;
+  // --centre auto: FGS-like refinement loses by centring a field without a shared component
+  // (docs/refine.md: tuning half, gen D = 16/32 and synth); the other methods gain or break even.
+  Centring centre = Centring::kOn;
 };
 
 Preset PresetFor(const std::string& method) {
-  if (method == "fgs") return {.features = "semantic_", .wide_credit = true};
+  if (method == "fgs") return {.features = "semantic_", .wide_credit = true, .centre = Centring::kShared};
   if (method == "gg") return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
   if (method == "sags") return {.features = "auto", .prototype_credit = true};
@@ -143,12 +146,20 @@ void ResolvePriorSwitch(const nlohmann::json& preset, const char* key, PriorSwit
   value = preset.is_object() && preset.value(key, false) ? PriorSwitch::kOn : PriorSwitch::kOff;
 }
 
+// auto = the preset's centring (on without a preset).
+Centring ResolveCentring(const nlohmann::json& preset, Centring value) {
+  if (value != Centring::kAuto) return value;
+  const bool shared = preset.is_object() && preset.value("centre", std::string("on")) == "shared";
+  return shared ? Centring::kShared : Centring::kOn;
+}
+
 GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
                             const std::vector<std::uint8_t>* extra_seeds) {
   GraphOptions go = options;
   go.normalize_features = !inputs.colour_fallback;
   ResolvePriorSwitch(inputs.preset, "prototype_credit", go.prior.prototype_credit);
   ResolvePriorSwitch(inputs.preset, "wide_credit", go.prior.wide_credit);
+  go.centre = ResolveCentring(inputs.preset, go.centre);
   return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
 }
 
@@ -222,7 +233,8 @@ nlohmann::json PresetJson(const Preset& preset) {
           {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
           {"gc_polarity", preset.gc_polarity},
           {"prototype_credit", preset.prototype_credit},
-          {"wide_credit", preset.wide_credit}};
+          {"wide_credit", preset.wide_credit},
+          {"centre", preset.centre == Centring::kShared ? "shared" : "on"}};
 }
 
 // The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).

@@ -116,6 +116,25 @@ TEST(OptionTable, ApplyTakesAJsonObjectThenChecks) {
             "example options must be a JSON object");
 }
 
+// A choice that names on|off takes JSON true/false as those names (Python's centre=False, a
+// sweep grid of booleans); for any other choice a boolean is a named usage error.
+TEST(OptionTable, ChoiceTakesABooleanAsOnOff) {
+  enum class Tri { kAuto, kOn, kOff };
+  struct Switches {
+    Tri tri = Tri::kAuto;
+  };
+  const auto table = al::OptionTable<Switches>("switches").Choice(
+      "tri", &Switches::tri, {{"auto", Tri::kAuto}, {"on", Tri::kOn}, {"off", Tri::kOff}}, "three ways");
+  Switches s;
+  table.Set(s, "tri", false);
+  EXPECT_EQ(s.tri, Tri::kOff);
+  table.Set(s, "tri", true);
+  EXPECT_EQ(s.tri, Tri::kOn);
+  Example e;
+  EXPECT_EQ(UsageMessage([&] { Example::Table().Set(e, "mode", true); }),
+            "example option 'mode' must be one of a|b, not 'on'");
+}
+
 TEST(OptionTable, FlagNamesUseDashes) {
   al::OptionField<Example> f;
   f.name = "min_segment_share";

@@ -125,7 +125,7 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
 
   // SPEC §4 literally (no centring, no prior): y is the mask, the gate uses the unit rows.
   al::GraphOptions literal = o;
-  literal.centre_features = false;
+  literal.centre = al::Centring::kOff;
   literal.prior.weight = 0.0;
   const auto lit = al::BuildRefineGraph(g.scene, g.features, g.removed, literal).problem;
   for (std::size_t u = 0; u < lit.num_nodes(); ++u)
@@ -135,6 +135,47 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
                        g.features.row(e.second).cast<double>().normalized()).norm();
     EXPECT_LE(df, o.delta + 1e-6);
   }
+}
+
+// Mean of the unit rows' norm: what kShared compares with kSharedComponentNorm.
+double CommonComponent(const al::RowMatXf& f) {
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(f.cols());
+  for (Eigen::Index i = 0; i < f.rows(); ++i) mean += f.row(i).cast<double>().transpose().normalized();
+  return (mean / double(f.rows())).norm();
+}
+
+// kShared centres only a field whose rows share a strong component (CLIP-like); on any other
+// field it builds exactly the uncentred graph.
+TEST(Graph, SharedCentringFollowsTheCommonComponent) {
+  auto g = al::test::MakeGraphScene(3000, 11);
+  al::GraphOptions o;
+  o.k = 6;
+  const double weak = CommonComponent(g.features);
+  ASSERT_LT(weak, al::kSharedComponentNorm);  // the fixture's field has no strong shared part
+  o.centre = al::Centring::kShared;
+  const auto shared = al::BuildRefineGraph(g.scene, g.features, g.removed, o);
+  o.centre = al::Centring::kOff;
+  const auto off = al::BuildRefineGraph(g.scene, g.features, g.removed, o);
+  EXPECT_FALSE(shared.stats.centred);
+  EXPECT_NEAR(shared.stats.common_component, weak, 1e-9);
+  ExpectSameGraph(Edges(shared.problem), Edges(off.problem), 0.0);
+  EXPECT_EQ(shared.problem.y_remove, off.problem.y_remove);
+
+  // The same field plus one direction every row shares (as distilled CLIP features have).
+  al::RowMatXf clip = g.features;
+  for (Eigen::Index i = 0; i < clip.rows(); ++i) {
+    clip.row(i) = clip.row(i).normalized();
+    clip(i, 0) += 3.0f;
+  }
+  ASSERT_GE(CommonComponent(clip), al::kSharedComponentNorm);
+  o.centre = al::Centring::kShared;
+  const auto clip_shared = al::BuildRefineGraph(g.scene, clip, g.removed, o);
+  o.centre = al::Centring::kOn;
+  const auto clip_on = al::BuildRefineGraph(g.scene, clip, g.removed, o);
+  EXPECT_TRUE(clip_shared.stats.centred);
+  ExpectSameGraph(Edges(clip_shared.problem), Edges(clip_on.problem), 0.0);
+  o.centre = al::Centring::kOff;  // uncentred, the shared part passes more edges through the gate
+  EXPECT_GT(al::BuildRefineGraph(g.scene, clip, g.removed, o).stats.edges, clip_on.stats.edges);
 }
 
 TEST(Graph, InvariantToPermutationScaleAndThreads) {

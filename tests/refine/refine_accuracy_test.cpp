@@ -128,4 +128,29 @@ TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
   EXPECT_EQ(rows({{"prototype_credit", true}}, C::kOff), 0u);
 }
 
+// --centre auto: the fgs preset's "shared" leaves a synth field (no strong shared component)
+// uncentred; without a preset, or with another one, auto centres; an explicit choice wins.
+TEST(RefineAccuracy, CentringFollowsThePreset) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in;
+  in.scene = std::make_shared<const al::Scene>(s.scene);
+  in.SetFeatures(s.scene.features);
+  in.removal.removed = s.removed.at("fgs");
+  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  auto centred = [&](const nlohmann::json& preset, al::Centring centre) {
+    in.preset = preset;
+    al::GraphOptions o;
+    o.centre = centre;
+    const al::GraphStats st = al::BuildGraphFor(in, o).stats;
+    EXPECT_LT(st.common_component, al::kSharedComponentNorm);
+    return st.centred;
+  };
+  using C = al::Centring;
+  EXPECT_FALSE(centred({{"centre", "shared"}}, C::kAuto));
+  EXPECT_TRUE(centred({{"centre", "on"}}, C::kAuto));
+  EXPECT_TRUE(centred(nullptr, C::kAuto));
+  EXPECT_TRUE(centred({{"centre", "shared"}}, C::kOn));
+  EXPECT_FALSE(centred({{"centre", "on"}}, C::kOff));
+}
+
 }  // namespace

@@ -20,6 +20,22 @@ enum class DeltaMode {
   kCosine,    // δ is a cosine threshold; distance bound √(2(1 − δ))
 };
 
+// [project, docs/refine.md] Centring of the semantic features: normalised, the scene's mean
+// subtracted, normalised again, so a component all features share (CLIP-like fields: every pair
+// at cosine ~0.75) does not pass every edge through the gate. It also stretches the small
+// differences of features near the scene mean, which costs FGS-like refinement on fields without
+// such a component (docs/refine.md), hence kShared.
+enum class Centring {
+  kAuto,    // the refine stages' preset decides (fgs: kShared, else kOn); a direct caller gets kOn
+  kOn,      // always centre
+  kOff,     // never (SPEC §4.4 literally)
+  kShared,  // centre only when the features share a strong component (kSharedComponentNorm)
+};
+// |mean of the unit feature rows| from which kShared centres: its square is about the mean
+// pairwise cosine, so 0.7 ≈ 0.5. Real and gen_scenes.py CLIP-like fields: 0.87–0.89; the D = 16/32
+// fields of gen_scenes.py and al-refine synth: 0.39–0.57.
+inline constexpr double kSharedComponentNorm = 0.7;
+
 struct GraphOptions {
   int k = 10;                      // neighbours per node
   double delta = 0.8;              // semantic gate (see delta_mode)
@@ -37,10 +53,7 @@ struct GraphOptions {
   // Features: true = L2-normalise rows, zero-norm rows get no edges (semantic features);
   // false = raw Euclidean distance (colour fallback, SPEC §3).
   bool normalize_features = true;
-  // [project, docs/refine.md] Semantic features are centred: normalised, the scene's mean
-  // subtracted, normalised again, so a component all features share (CLIP-like fields: every
-  // pair at cosine ~0.75) does not pass every edge through the gate. false = SPEC §4.4 literally.
-  bool centre_features = true;
+  Centring centre = Centring::kAuto;  // see Centring; kOff = SPEC §4.4 literally
   // [project] The unary's feature prior (al/graph/prior.hpp); weight 0 = y from the mask alone.
   PriorOptions prior;
 
@@ -65,6 +78,7 @@ struct GraphStats {
   std::size_t feature_dim = 0;
   double gate_distance = 0.0;           // distance bound actually applied (= σ_f)
   bool centred = false;                 // features centred on the scene mean
+  double common_component = 0.0;        // |mean of the scene's unit feature rows| (0: not computed)
   PriorStats prior;                     // the unary's feature prior (weight 0: off)
   double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
