@@ -26,11 +26,16 @@ struct DecisionRule {
 // "0.5" or "percentile:95"; throws al::Error (usage) otherwise.
 DecisionRule ParseDecisionRule(const std::string& text);
 
+// [project, docs/refine.md] Whether nodes of R with p_v < τ may return. auto = the --method
+// preset's choice in the refine stages (gc: off — on synth's gc masks every restore was the object;
+// every other preset: on, the feature prior doubting a removed Gaussian only where the method kept
+// most of its feature group); a direct caller of ApplyDecision gets on.
+enum class Restore { kAuto, kOn, kOff };
+
 struct DecisionOptions {
   DecisionRule rule;
-  // Let nodes of R with p_v < τ return. On by default [project, docs/refine.md]: the feature prior
-  // doubts a removed Gaussian only where the method kept most of its feature group.
-  bool restore = true;
+  Restore restore = Restore::kAuto;
+  bool Restores() const { return restore != Restore::kOff; }
   // Additions need a segment removed by at least this share (0 = SPEC §5's plain rule, the
   // default). An earlier default (2/3) held back every addition where the whole candidate graph
   // is one segment the method removed only partly (docs/refine.md: what did not transfer).

@@ -64,7 +64,7 @@ def test_table_options_reach_the_library(synth):
                   min_segment_share=0.5)
     p = r.report["params"]
     assert (p["k"], p["delta"], p["spatial"], p["threshold"], p["restore"], p["kl_smoothing"]) == \
-        (6, 1.0, False, "percentile:90", False, 0.2)
+        (6, 1.0, False, "percentile:90", "off", 0.2)
     assert (p["grow_rounds"], p["centre"], p["prior_weight"], p["min_segment_share"]) == (0, "off", 0.25, 0.5)
     assert r.report["graph"]["rounds"] == 1
     cp = al.refine(synth.scene, synth.removed["fgs"], solver="cp", cp_it_max=3)
@@ -74,6 +74,6 @@ def test_table_options_reach_the_library(synth):
 def test_help_teaches_every_table_field():
     doc = al.refine.__doc__
     for field in ("k (", "delta (", "lambda (", "kl_smoothing (", "threshold (", "min_segment_share (",
-                  "restore (on|off, default true)", "grow_rounds (", "centre (", "prior_weight (",
+                  "restore (auto|on|off, default auto)", "grow_rounds (", "centre (", "prior_weight (",
                   "cp_dif_tol (", "pivot ("):
         assert field in doc, field

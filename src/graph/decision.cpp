@@ -106,8 +106,10 @@ const OptionTable<DecisionOptions>& DecisionOptions::Table() {
   static const auto table =
       OptionTable<DecisionOptions>("decision")
           .Custom(std::move(threshold))
-          .Flag("restore", &DecisionOptions::restore,
-                "also let removed Gaussians with p < tau return (off = add only)")
+          .Choice("restore", &DecisionOptions::restore,
+                  {{"auto", Restore::kAuto}, {"on", Restore::kOn}, {"off", Restore::kOff}},
+                  "also let removed Gaussians with p < tau return (off = add only; auto: off for --method gc, "
+                  "else on)")
           .Real("min_segment_share", &DecisionOptions::min_segment_share, NumericRange::Closed(0, 1),
                 "segment rule: add only to graph components the method removed at least this share of "
                 "(0 = off, SPEC 5's plain rule)");
@@ -166,7 +168,7 @@ DecisionResult ApplyDecision(const std::vector<bool>& removed, const RefineProbl
     if (sel && !removed[i]) {
       r.refined[i] = true;
       ++r.added;
-    } else if (!sel && removed[i] && options.restore) {
+    } else if (!sel && removed[i] && options.Restores()) {
       r.refined[i] = false;
       ++r.restored;
     }

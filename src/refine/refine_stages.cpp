@@ -45,6 +45,9 @@ struct Preset {
   // --centre auto: FGS-like refinement loses by centring a field without a shared component
   // (docs/refine.md: tuning half, gen D = 16/32 and synth); the other methods gain or break even.
   Centring centre = Centring::kOn;
+  // --restore auto: GaussianCut's masks are precise; on synth's gc masks (tuning and reporting
+  // halves) every Gaussian the cut restored was the object (docs/accuracy.md).
+  bool restore = true;
 };
 
 Preset PresetFor(const std::string& method) {
@@ -52,7 +55,7 @@ Preset PresetFor(const std::string& method) {
   if (method == "gg") return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
   if (method == "sags") return {.features = "auto", .prototype_credit = true};
-  if (method == "gc") return {.features = "colour", .gc_polarity = true};
+  if (method == "gc") return {.features = "colour", .gc_polarity = true, .restore = false};
   if (method == "generic") return {.features = "auto"};
   throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
 }
@@ -153,6 +156,14 @@ Centring ResolveCentring(const nlohmann::json& preset, Centring value) {
   return shared ? Centring::kShared : Centring::kOn;
 }
 
+// auto = the preset's restore (on without a preset).
+DecisionOptions ResolveRestore(const nlohmann::json& preset, DecisionOptions decision) {
+  if (decision.restore != Restore::kAuto) return decision;
+  const bool off = preset.is_object() && !preset.value("restore", true);
+  decision.restore = off ? Restore::kOff : Restore::kOn;
+  return decision;
+}
+
 GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
                             const std::vector<std::uint8_t>* extra_seeds) {
   GraphOptions go = options;
@@ -234,7 +245,8 @@ nlohmann::json PresetJson(const Preset& preset) {
           {"gc_polarity", preset.gc_polarity},
           {"prototype_credit", preset.prototype_credit},
           {"wide_credit", preset.wide_credit},
-          {"centre", preset.centre == Centring::kShared ? "shared" : "on"}};
+          {"centre", preset.centre == Centring::kShared ? "shared" : "on"},
+          {"restore", preset.restore}};
 }
 
 // The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).
@@ -454,16 +466,17 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   SolverResult sr = solver.Solve(graph.problem);
   out.warnings = sr.warnings;
   out.solver = sr.ToJson();
-  const DecisionResult d = ApplyDecision(inputs.removal.removed, graph.problem, sr.p, decision);
+  const DecisionOptions resolved = ResolveRestore(inputs.preset, decision);
+  const DecisionResult d = ApplyDecision(inputs.removal.removed, graph.problem, sr.p, resolved);
   out.refined = d.refined;
   out.added = d.added;
   out.restored = d.restored;
   out.p = std::move(sr.p);
   out.decision = d.ToJson();
   out.decision["rule"] = decision.rule.ToString();
-  out.decision["restore"] = decision.restore;
+  out.decision["restore"] = resolved.Restores();
   out.message = "refined (features " + inputs.feature_source + "): " + std::to_string(d.added) + " Gaussians added" +
-                (decision.restore ? ", " + std::to_string(d.restored) + " restored" : "") +
+                (resolved.Restores() ? ", " + std::to_string(d.restored) + " restored" : "") +
                 // The segment rule departs from the plain threshold, so say when it acted.
                 (d.held_back > 0 ? ", " + std::to_string(d.held_back) + " held back in " +
                                        std::to_string(d.segments_held_back) +

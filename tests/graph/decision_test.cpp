@@ -34,7 +34,7 @@ void SetEdges(al::RefineProblem& p, const std::vector<std::pair<int, int>>& edge
 
 TEST(Decision, DefaultsRestoreWithoutTheSegmentRule) {
   const al::DecisionOptions d;
-  EXPECT_TRUE(d.restore);
+  EXPECT_TRUE(d.Restores());  // auto: on for a direct caller
   EXPECT_EQ(d.min_segment_share, 0.0);
 }
 
@@ -43,14 +43,14 @@ TEST(Decision, FixedThresholdAddsOnlyUnlessRestore) {
   const auto prob = Nodes({0, 1, 2, 3, 5});
   const std::vector<double> p{1.0, 0.2, 0.5, 0.49, 0.0};
   al::DecisionOptions plain;  // SPEC §5's rule alone (add only)
-  plain.restore = false;
+  plain.restore = al::Restore::kOff;
   const auto d = al::ApplyDecision(R, prob, p, plain);
   EXPECT_EQ(d.refined, (std::vector<bool>{true, true, true, false, false, true}));
   EXPECT_EQ(d.added, 1u);
   EXPECT_EQ(d.restored, 0u);
   EXPECT_EQ(d.at_threshold, 1u);
   al::DecisionOptions o = plain;
-  o.restore = true;
+  o.restore = al::Restore::kOn;
   const auto r = al::ApplyDecision(R, prob, p, o);
   EXPECT_EQ(r.refined, (std::vector<bool>{true, false, true, false, false, false}));
   EXPECT_EQ(r.restored, 2u);
@@ -92,7 +92,7 @@ TEST(Decision, SegmentRuleAddsOnlyToSegmentsMostlyRemoved) {
   EXPECT_EQ(al::ApplyDecision(R, prob, p, rule).refined, f.refined);
   // Restore is independent of the segment rule; bad shares are usage errors.
   al::DecisionOptions restore = rule;
-  restore.restore = true;
+  restore.restore = al::Restore::kOn;
   std::vector<double> q(11, 1.0);
   q[5] = 0.0;  // an R node of B the solver returns
   EXPECT_EQ(al::ApplyDecision(R, prob, q, restore).restored, 1u);

@@ -153,4 +153,32 @@ TEST(RefineAccuracy, CentringFollowsThePreset) {
   EXPECT_FALSE(centred({{"centre", "on"}}, C::kOff));
 }
 
+// --restore auto: the gc preset's "off" keeps every removed Gaussian removed; other presets, no
+// preset, or an explicit --restore on let the cut return them.
+TEST(RefineAccuracy, RestoreFollowsThePreset) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in;
+  in.scene = std::make_shared<const al::Scene>(s.scene);
+  in.SetFeatures(s.scene.features);
+  in.removal.removed = s.removed.at("fgs");
+  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  // Restored count; the report's decision says whether restore was on.
+  auto restored = [&](const nlohmann::json& preset, al::Restore restore, bool expect_on) {
+    in.preset = preset;
+    al::DecisionOptions d;
+    d.restore = restore;
+    auto solver = al::MakeSolver("bk");
+    const al::SolveOutcome out = al::BuildAndSolve(in, al::GraphOptions{}, *solver, d).outcome;
+    EXPECT_EQ(out.decision.at("restore").get<bool>(), expect_on);
+    return out.restored;
+  };
+  using R = al::Restore;
+  const std::size_t base = restored({{"restore", true}}, R::kAuto, true);
+  ASSERT_GT(base, 0u);  // the scene has something to restore
+  EXPECT_EQ(restored({{"restore", false}}, R::kAuto, false), 0u);
+  EXPECT_EQ(restored(nlohmann::json::object(), R::kAuto, true), base);
+  EXPECT_EQ(restored({{"restore", false}}, R::kOn, true), base);
+  EXPECT_EQ(restored({{"restore", true}}, R::kOff, false), 0u);
+}
+
 }  // namespace
