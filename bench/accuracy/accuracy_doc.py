@@ -114,23 +114,24 @@ def today_of(recs):
 
 
 def synth_rows(records):
+    """"No simulator worse than today": each solver against today's run with the same solver."""
     out = []
     rep = [r for r in records if r["half"] == "report" and r["source"] == "synth"]
     for (mask,), recs in sorted(report.group(rep, ("mask",)).items()):
         today_name, today_recs = today_of(recs)
-        today = report.stats(today_recs)
-        if not today["scenes"]:
+        if not today_recs:
             continue
-        vals = [report.stats([r for r in recs if r["config"] == "default" and r["solver"] == s]) for s in ("bk", "cp")]
-        ok = all(v["mean dF1"] >= today["mean dF1"] - 1e-9 for v in vals)
-        line = (f"| synth {mask}: mean ΔF1 not below {today_name}'s ({today['mean dF1']:+.4f})"
+        pairs = [(report.stats([r for r in recs if r["config"] == "default" and r["solver"] == s]),
+                  report.stats([r for r in today_recs if r["solver"] == s])) for s in ("bk", "cp")]
+        ok = all(v["mean dF1"] is not None and t["mean dF1"] is not None and v["mean dF1"] >= t["mean dF1"] - 1e-9
+                 for v, t in pairs)
+        line = (f"| synth {mask}: mean ΔF1 not below {today_name}'s with the same solver"
                 + (" and worst ΔF1 ≥ −0.01" if mask == "fgs" else "") + " | ")
+        cells = [f"{v['mean dF1']:+.4f} ({today_name} {t['mean dF1']:+.4f})" for v, t in pairs]
         if mask == "fgs":
-            ok = ok and all(v["worst dF1"] >= -0.01 for v in vals)
-            line += " | ".join(f"{v['mean dF1']:+.4f}; worst {v['worst dF1']:+.4f}" for v in vals)
-        else:
-            line += " | ".join(f"{v['mean dF1']:+.4f}" for v in vals)
-        out.append(line + f" | {'yes' if ok else 'no'} |")
+            ok = ok and all(v["worst dF1"] >= -0.01 for v, _ in pairs)
+            cells = [c + f"; worst {v['worst dF1']:+.4f} ({t['worst dF1']:+.4f})" for c, (v, t) in zip(cells, pairs)]
+        out.append(line + " | ".join(cells) + f" | {'yes' if ok else 'no'} |")
     return out
 
 

@@ -74,6 +74,7 @@ def test_table_options_reach_the_library(synth):
 def test_help_teaches_every_table_field():
     doc = al.refine.__doc__
     for field in ("k (", "delta (", "lambda (", "kl_smoothing (", "threshold (", "min_segment_share (",
-                  "restore (auto|on|off, default auto)", "grow_rounds (", "centre (", "prior_weight (",
+                  "restore (auto|on|off, default auto)", "spatial (on|off, default on)", "grow_rounds (",
+                  "centre (auto|on|off|shared, default auto)", "prior_weight (",
                   "cp_dif_tol (", "pivot ("):
         assert field in doc, field

@@ -5,38 +5,8 @@
 namespace al {
 namespace {
 
-// The prior's weight lives in a nested struct, which a member pointer of the table cannot reach.
-OptionField<GraphOptions> PriorWeightField() {
-  const NumericRange range = NumericRange::Closed(0, 1);
-  OptionField<GraphOptions> f{"prior_weight", OptionType::kReal, range.Text(),
-                              "feature prior in the unary: y = (1 - w) mask + w q (0 = the mask alone)",
-                              false, {}, {}, {}};
-  f.get = [](const GraphOptions& o) { return nlohmann::json(o.prior.weight); };
-  f.set = [](GraphOptions& o, const nlohmann::json& v) { o.prior.weight = v.get<double>(); };
-  f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.weight); };
-  return f;
-}
-
-// An auto|on|off switch of the prior (nested struct: the table's member pointers cannot reach it).
-OptionField<GraphOptions> PriorSwitchField(const std::string& name, PriorSwitch PriorOptions::*member,
-                                           const std::string& help) {
-  static const std::vector<std::pair<std::string, PriorSwitch>> names = {
-      {"auto", PriorSwitch::kAuto}, {"on", PriorSwitch::kOn}, {"off", PriorSwitch::kOff}};
-  OptionField<GraphOptions> f{name, OptionType::kChoice, "auto|on|off", help, false, {}, {}, {}};
-  f.get = [member](const GraphOptions& o) {
-    for (const auto& [text, value] : names)
-      if (o.prior.*member == value) return nlohmann::json(text);
-    return nlohmann::json(nullptr);
-  };
-  f.set = [name, member](GraphOptions& o, const nlohmann::json& v) {
-    for (const auto& [text, value] : names)
-      if (v.get<std::string>() == text) return void(o.prior.*member = value);
-    throw Error("graph option '" + name + "' must be one of auto|on|off, not '" + v.get<std::string>() + "'",
-                ExitCode::kUsage);
-  };
-  f.in_range = [](const GraphOptions&) { return true; };
-  return f;
-}
+const std::vector<std::pair<std::string, PriorSwitch>> kPriorSwitchNames = {
+    {"auto", PriorSwitch::kAuto}, {"on", PriorSwitch::kOn}, {"off", PriorSwitch::kOff}};
 
 }  // namespace
 
@@ -65,13 +35,14 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                   "centre semantic features on the scene mean; shared = only when they share a strong "
                   "common component (CLIP-like: |mean unit feature| >= 0.7); auto: shared for --method fgs, "
                   "else on")
-          .Custom(PriorWeightField())
-          .Custom(PriorSwitchField("prototype_credit", &PriorOptions::prototype_credit,
-                                   "credit kept Gaussians close to the removed set's mean feature (auto: on "
-                                   "for --method sags only)"))
-          .Custom(PriorSwitchField("wide_credit", &PriorOptions::wide_credit,
-                                   "credit kept Gaussians half-way down to the kept ones' projection, for a "
-                                   "tight object (auto: on for --method fgs only)"));
+          .Real("prior_weight", &O::prior, &PriorOptions::weight, R::Closed(0, 1),
+                "feature prior in the unary: y = (1 - w) mask + w q (0 = the mask alone)")
+          .Choice("prototype_credit", &O::prior, &PriorOptions::prototype_credit, kPriorSwitchNames,
+                  "credit kept Gaussians close to the removed set's mean feature (auto: on for --method sags "
+                  "only)")
+          .Choice("wide_credit", &O::prior, &PriorOptions::wide_credit, kPriorSwitchNames,
+                  "credit kept Gaussians half-way down to the kept ones' projection, for a tight object (auto: "
+                  "on for --method fgs only)");
   return table;
 }
 

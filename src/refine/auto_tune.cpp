@@ -93,7 +93,8 @@ std::vector<std::vector<std::int64_t>> SolveGrid(const RefineInputs& inputs, con
         for (std::size_t e = 0; e < unit.size(); ++e) graph.problem.edge_weights[e] = unit[e] * lambda;
         go.lambda = lambda;
         const SolveOutcome s = SolveAndDecide(inputs, graph, go, solver, decision);
-        AutoTuneCandidate c{k, delta, lambda};
+        AutoTuneCandidate c;
+        c.k = k, c.delta = delta, c.lambda = lambda;
         c.empty_graph = s.empty_graph;
         c.added = s.added;
         c.restored = s.restored;

@@ -66,7 +66,8 @@ added=$(jget "$T/fgs/report.json" "['counts']['added']")
 restored=$(jget "$T/fgs/report.json" "['counts']['restored']")
 [ "$out_n" = $((in_n + added - restored)) ] || fail "refined $out_n != removed $in_n + added $added - restored $restored"
 [ "$(jget "$T/fgs/report.json" "['counts']['refined']")" = "$out_n" ] || fail "refined count"
-[ "$(jget "$T/fgs/report.json" "['params']['restore']")" = True ] || fail "restore is the default"
+[ "$(jget "$T/fgs/report.json" "['params']['restore']")" = auto ] || fail "restore is auto by default"
+[ "$(jget "$T/fgs/report.json" "['decision']['restore']")" = True ] || fail "fgs restores by default"
 [ "$(jget "$T/fgs/report.json" "['gt']['change']['added']")" = "$added" ] || fail "gt.change.added"
 # --no-restore: refinement only adds.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
@@ -136,6 +137,7 @@ rc=$?
 set -e
 [ "$rc" = 0 ] || [ "$rc" = 3 ] || fail "gc run exit $rc"
 [ "$(jget "$T/gc/report.json" "['counts']['removed_input']")" = 5 ] || fail "gc polarity"
+[ "$(jget "$T/gc/report.json" "['params']['preset']['restore']")" = False ] || fail "gc preset restores"
 # The same float array without --method gc is rejected (polarity is never guessed).
 set +e
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/gc.npy" --solver bk --out "$T/gc2" --quiet >/dev/null 2>&1

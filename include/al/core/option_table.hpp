@@ -96,11 +96,14 @@ class OptionTable {
     return Add(std::move(f));
   }
   OptionTable&& Real(const std::string& name, double O::*member, NumericRange range, const std::string& help) && {
-    OptionField<O> f{name, OptionType::kReal, range.Text(), help, false, {}, {}, {}};
-    f.get = [member](const O& o) { return nlohmann::json(o.*member); };
-    f.set = [member](O& o, const nlohmann::json& v) { o.*member = v.get<double>(); };
-    f.in_range = [member, range](const O& o) { return range.Contains(o.*member); };
-    return Add(std::move(f));
+    return std::move(*this).RealAt(name, [member](auto& o) -> auto& { return o.*member; }, range, help);
+  }
+  // A field of a nested options struct (GraphOptions::prior.weight).
+  template <class N>
+  OptionTable&& Real(const std::string& name, N O::*nested, double N::*member, NumericRange range,
+                     const std::string& help) && {
+    return std::move(*this).RealAt(name, [nested, member](auto& o) -> auto& { return (o.*nested).*member; }, range,
+                                   help);
   }
   // A boolean spelled on|off (--spatial off); Switch: a flag without value (--restore).
   OptionTable&& Switch(const std::string& name, bool O::*member, const std::string& help) && {
@@ -124,26 +127,14 @@ class OptionTable {
   template <class E>
   OptionTable&& Choice(const std::string& name, E O::*member, std::vector<std::pair<std::string, E>> names,
                        const std::string& help) && {
-    std::string range;
-    for (const auto& [text, value] : names) range += (range.empty() ? "" : "|") + text;
-    OptionField<O> f{name, OptionType::kChoice, range, help, false, {}, {}, {}};
-    f.get = [member, names](const O& o) {
-      for (const auto& [text, value] : names)
-        if (o.*member == value) return nlohmann::json(text);
-      return nlohmann::json(nullptr);
-    };
-    f.set = [this_scope = scope_, name, member, names, range](O& o, const nlohmann::json& v) {
-      for (const auto& [text, value] : names)
-        if (v.get<std::string>() == text) return void(o.*member = value);
-      throw Error(this_scope + " option '" + name + "' must be one of " + range + ", not '" +
-                      v.get<std::string>() + "'", ExitCode::kUsage);
-    };
-    f.in_range = [member, names](const O& o) {
-      for (const auto& entry : names)
-        if (o.*member == entry.second) return true;
-      return false;
-    };
-    return Add(std::move(f));
+    return std::move(*this).ChoiceAt(name, [member](auto& o) -> auto& { return o.*member; }, std::move(names), help);
+  }
+  // A field of a nested options struct (GraphOptions::prior.wide_credit).
+  template <class N, class E>
+  OptionTable&& Choice(const std::string& name, N O::*nested, E N::*member,
+                       std::vector<std::pair<std::string, E>> names, const std::string& help) && {
+    return std::move(*this).ChoiceAt(name, [nested, member](auto& o) -> auto& { return (o.*nested).*member; },
+                                     std::move(names), help);
   }
   // Anything else (a value with its own syntax, e.g. "percentile:95"): the caller's functions.
   OptionTable&& Custom(OptionField<O> field) && { return Add(std::move(field)); }
@@ -196,6 +187,39 @@ class OptionTable {
   static std::string Spell(const nlohmann::json& v) {
     if (v.is_number()) return FormatOptionNumber(v.get<double>());
     return v.is_string() ? v.get<std::string>() : v.dump();
+  }
+  // ref(o) is the field's value (a const or mutable reference, as o is).
+  template <class Ref>
+  OptionTable&& RealAt(const std::string& name, Ref ref, NumericRange range, const std::string& help) && {
+    OptionField<O> f{name, OptionType::kReal, range.Text(), help, false, {}, {}, {}};
+    f.get = [ref](const O& o) { return nlohmann::json(ref(o)); };
+    f.set = [ref](O& o, const nlohmann::json& v) { ref(o) = v.get<double>(); };
+    f.in_range = [ref, range](const O& o) { return range.Contains(ref(o)); };
+    return Add(std::move(f));
+  }
+  template <class E, class Ref>
+  OptionTable&& ChoiceAt(const std::string& name, Ref ref, std::vector<std::pair<std::string, E>> names,
+                         const std::string& help) && {
+    std::string range;
+    for (const auto& [text, value] : names) range += (range.empty() ? "" : "|") + text;
+    OptionField<O> f{name, OptionType::kChoice, range, help, false, {}, {}, {}};
+    f.get = [ref, names](const O& o) {
+      for (const auto& [text, value] : names)
+        if (ref(o) == value) return nlohmann::json(text);
+      return nlohmann::json(nullptr);
+    };
+    f.set = [this_scope = scope_, name, ref, names, range](O& o, const nlohmann::json& v) {
+      for (const auto& [text, value] : names)
+        if (v.get<std::string>() == text) return void(ref(o) = value);
+      throw Error(this_scope + " option '" + name + "' must be one of " + range + ", not '" +
+                      v.get<std::string>() + "'", ExitCode::kUsage);
+    };
+    f.in_range = [ref, names](const O& o) {
+      for (const auto& entry : names)
+        if (ref(o) == entry.second) return true;
+      return false;
+    };
+    return Add(std::move(f));
   }
   OptionTable&& Add(OptionField<O> field) {
     if (Has(field.name)) throw Error(scope_ + ": option '" + field.name + "' declared twice", ExitCode::kInternal);
