@@ -3,7 +3,7 @@
 behind, on scenes it was never tuned on? See docs/accuracy.md for what it measures and the results.
 
 usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves report|tune|tune,report] [--sources gen,synth]
-                             [--styles d16,...] [--solvers bk,cp] [--configs default,auto]
+                             [--styles d16,...] [--masks gg_like,...] [--solvers bk,cp] [--configs default,auto]
                              [--config NAME=FLAGS ...] [--baselines B1,B2,B3|none] [--n 60000]
                              [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
                              [--no-write] [--summary] [--write-only]
@@ -39,6 +39,7 @@ def parse_args():
     ap.add_argument("--halves", default="report")
     ap.add_argument("--sources", default="gen,synth")
     ap.add_argument("--styles", default="")
+    ap.add_argument("--masks", default="", help="only these removal masks (e.g. gg_like,gg); default: all")
     ap.add_argument("--solvers", default="bk,cp")
     ap.add_argument("--configs", default="default,auto")
     ap.add_argument("--config", action="append", default=[], help="NAME=FLAGS (extra al-refine flags)")
@@ -81,10 +82,13 @@ def plan(args):
             params[key] = float(val)
         bls.append((item, name, params))
     styles = [s for s in args.styles.split(",") if s]
+    masks = [m for m in args.masks.split(",") if m]
     todo = []
     for sc in scenes.scene_list(args.halves.split(","), args.quick, args.sources.split(","), styles,
                                  args.max_seeds):
         for mask, method in sc.masks().items():
+            if masks and mask not in masks:
+                continue
             for cname, flags in configs.items():
                 for solver in args.solvers.split(","):
                     todo.append((sc, mask, method, "al", cname, solver, flags))

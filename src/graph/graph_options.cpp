@@ -8,6 +8,24 @@ namespace {
 const std::vector<std::pair<std::string, PriorSwitch>> kPriorSwitchNames = {
     {"auto", PriorSwitch::kAuto}, {"on", PriorSwitch::kOn}, {"off", PriorSwitch::kOff}};
 
+// auto or a number in [0, 1] (al/graph/prior.hpp: unset = the preset's weight).
+OptionField<GraphOptions> PriorWeightField() {
+  const NumericRange range = NumericRange::Closed(0, 1);
+  OptionField<GraphOptions> f{"prior_weight", OptionType::kText, "auto|W",
+                              "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
+                              "alone; auto: 0.55 for --method gg and sags, else 0.5)",
+                              false, {}, {}, {}};
+  f.get = [](const GraphOptions& o) { return o.prior.weight ? nlohmann::json(*o.prior.weight) : nlohmann::json("auto"); };
+  f.set = [](GraphOptions& o, const nlohmann::json& v) {
+    const std::string text = v.get<std::string>();
+    if (text == "auto") return void(o.prior.weight.reset());
+    o.prior.weight = ParseOptionText(OptionType::kReal, text, "graph option 'prior_weight' (auto or w in [0, 1])")
+                         .get<double>();
+  };
+  f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.Weight()); };
+  return f;
+}
+
 }  // namespace
 
 const OptionTable<GraphOptions>& GraphOptions::Table() {
@@ -35,8 +53,7 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                   "centre semantic features on the scene mean; shared = only when they share a strong "
                   "common component (CLIP-like: |mean unit feature| >= 0.7); auto: shared for --method fgs, "
                   "else on")
-          .Real("prior_weight", &O::prior, &PriorOptions::weight, R::Closed(0, 1),
-                "feature prior in the unary: y = (1 - w) mask + w q (0 = the mask alone)")
+          .Custom(PriorWeightField())
           .Choice("prototype_credit", &O::prior, &PriorOptions::prototype_credit, kPriorSwitchNames,
                   "credit kept Gaussians close to the removed set's mean feature (auto: on for --method sags "
                   "only)")

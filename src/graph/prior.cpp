@@ -21,11 +21,6 @@ constexpr double kCreditGapShare = 0.5;
 // median cosine to 1 below it (B2 of issue 13 stops at about 1). From 2, a look-alike FGS had
 // half grabbed was completed (tests/refine/refine_accuracy_test.cpp).
 constexpr double kPrototypeFull = 1.0, kPrototypeZero = 1.5;
-// ... and with it the prior's weight rises by 0.05 (0.5 → 0.55): on the tuning half gen sags-like
-// +0.016 → +0.026 (misses recovered 24 % → 41 %, precision of the added 0.99), synth sags unchanged;
-// 0.6 added less precisely (0.95). Only where the credit is on: for FGS-like masks a weight above
-// 1/2 completed synth's grabbed look-alike (docs/refine.md).
-constexpr double kPrototypeWeightBoost = 0.05;
 // Removed Gaussians of the lower group are doubted only when that group stands apart from the
 // removed set: its mean at least 1.5 (full doubt from 2.5) of its standard deviations below the
 // removed median. Below that the lower group is the object's own tail (fgs-like masks on CLIP-like
@@ -192,7 +187,7 @@ double DoubtOfRemoved(PriorStats& st) {
 }  // namespace
 
 void PriorOptions::Check() const {
-  if (!(weight >= 0.0 && weight <= 1.0)) throw Error("--prior-weight must be in [0, 1]", ExitCode::kUsage);
+  if (!(Weight() >= 0.0 && Weight() <= 1.0)) throw Error("--prior-weight must be in [0, 1]", ExitCode::kUsage);
 }
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
@@ -202,9 +197,10 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   if (f.rows() != Eigen::Index(V)) throw Error("prior: feature rows do not match the nodes", ExitCode::kInternal);
   std::vector<double> y(mask);
   PriorStats st;
-  st.weight = o.weight;
+  const double weight = o.Weight();
+  st.weight = weight;
   const auto n_removed = std::size_t(std::count_if(mask.begin(), mask.end(), [](double m) { return m >= 0.5; }));
-  if (o.weight == 0.0 || n_removed == 0 || n_removed == V) {
+  if (weight == 0.0 || n_removed == 0 || n_removed == V) {
     if (stats) *stats = st;
     return y;
   }
@@ -227,11 +223,6 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   const std::vector<double> credit = o.prototype_credit != PriorSwitch::kOn
                                          ? std::vector<double>(V, 0.0)
                                          : CreditFromPrototype(f, mask, has, upper, doubt_removed, st);
-  // With the prototype credit (SAGS-like masks) the features weigh a little more than the mask, so
-  // a credited thin part can join the object where its edges are few and neutral.
-  const double weight =
-      o.prototype_credit != PriorSwitch::kOn ? o.weight : std::min(1.0, o.weight + kPrototypeWeightBoost);
-  st.weight = weight;
   for (std::size_t v = 0; v < V; ++v) {
     if (!has[v]) continue;
     // Within the removed set's own spread a Gaussian looks like the removed ones: credit for a

@@ -28,6 +28,7 @@
 // features share changes the prior.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -41,13 +42,17 @@ namespace al {
 // hull, a look-alike FGS grabbed; docs/refine.md). auto = per --method preset (resolved by
 // al::RunRefine's stages); a caller of FeaturePrior or BuildRefineGraph itself gets auto = off.
 //  - prototype_credit: credit from the cosine to the removed set's prototype (thin parts SAGS
-//    misses), and with it the prior's weight + 0.05; auto = on for sags only;
+//    misses); auto = on for sags only;
 //  - wide_credit: the kept side's "within the spread" window reaches half-way to the kept median
 //    (FGS's misses just below a tight object); auto = on for fgs only.
 enum class PriorSwitch { kAuto, kOn, kOff };
 
 struct PriorOptions {
-  double weight = 0.5;  // w in [0, 1]; 0 = the mask alone (SPEC §4.7)
+  // w in [0, 1]; 0 = the mask alone (SPEC §4.7). Unset = auto: the --method preset's (0.55 for gg
+  // and sags: a doubted label leans to the features' side; docs/refine.md), 0.5 otherwise and for
+  // a direct caller of FeaturePrior or BuildRefineGraph.
+  std::optional<double> weight;
+  double Weight() const { return weight.value_or(0.5); }
   PriorSwitch prototype_credit = PriorSwitch::kAuto;
   PriorSwitch wide_credit = PriorSwitch::kAuto;
   void Check() const;   // throws al::Error (usage) outside [0, 1]
