@@ -46,10 +46,28 @@ bool OnOtherDevice(const fs::path& a, const fs::path& b) {
   return ::stat(a.c_str(), &sa) == 0 && ::stat(b.c_str(), &sb) == 0 && sa.st_dev != sb.st_dev;
 }
 
+// The missing folders from `dir` up to its first existing ancestor, deepest first.
+std::vector<fs::path> MissingFolders(const fs::path& dir) {
+  std::vector<fs::path> missing;
+  std::error_code ec;
+  for (fs::path p = dir; !p.empty() && p != p.root_path() && !fs::exists(p, ec); p = p.parent_path())
+    missing.push_back(p);
+  return missing;
+}
+
+// Removes the folders a run created, deepest first, as long as they are empty (fs::remove never
+// deletes a folder with something in it: whatever another process put there stays).
+void RemoveEmptyFolders(const std::vector<fs::path>& folders) {
+  std::error_code ec;
+  for (const fs::path& p : folders) fs::remove(p, ec);
+}
+
 // Checks that --out can be written; true when the set must be staged inside --out: --out is a
 // mount point (a container's bind mount, a mounted disk: a sibling staging folder would be on
 // another filesystem, where nothing can be renamed into --out) or its parent is read-only.
-bool CheckWritable(const fs::path& out, const fs::path& parent, const std::string& flag_name) {
+// `created`: the parent folders it had to create (a run that never commits removes them).
+bool CheckWritable(const fs::path& out, const fs::path& parent, const std::string& flag_name,
+                   std::vector<fs::path>& created) {
   const std::string flag = flag_name + " " + out.string();
   std::error_code ec;
   if (fs::exists(out, ec) && !fs::is_directory(out, ec)) throw Error(flag + ": exists and is not a folder");
@@ -57,8 +75,12 @@ bool CheckWritable(const fs::path& out, const fs::path& parent, const std::strin
     if (!Writable(out)) throw Error(flag + ": cannot write: " + std::strerror(errno));
     return OnOtherDevice(out, parent) || !Writable(parent);
   }
+  created = MissingFolders(parent);
   fs::create_directories(parent, ec);
-  if (ec || !fs::is_directory(parent)) throw Error(flag + ": cannot create " + parent.string() + ": " + ec.message());
+  if (ec || !fs::is_directory(parent)) {
+    RemoveEmptyFolders(created);
+    throw Error(flag + ": cannot create " + parent.string() + ": " + ec.message());
+  }
   if (::access(parent.c_str(), W_OK | X_OK) != 0)
     throw Error(flag + ": cannot write in " + parent.string() + ": " + std::strerror(errno));
   return false;
@@ -161,7 +183,18 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
     throw Error(options_.flag + " " + out.string() + ": cannot be a filesystem root");
   if (ActiveSets().count(out_))
     throw Error(options_.flag + " " + out.string() + ": already an output folder of this run");
-  inside_ = CheckWritable(out_, parent_, options_.flag);
+  inside_ = CheckWritable(out_, parent_, options_.flag, created_parents_);
+  try {
+    Open(out);
+  } catch (...) {
+    RemoveEmptyFolders(created_parents_);
+    throw;
+  }
+  ActiveSets().insert(out_);
+}
+
+// The constructor's checks after --out's parent exists, and the staging folder.
+void OutputSet::Open(const fs::path& out) {
   for (auto& name : Recover(parent_, name_, out_))  // a claim counts only for this run's own journals
     if (Contains(options_.journals, name)) adopted_journals_.push_back(std::move(name));
   Ownership own = ReadOwnership(out_);
@@ -177,13 +210,14 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
   if (!fs::create_directory(staging_, ec) || ec)
     throw Error(options_.flag + " " + out.string() + ": cannot create staging folder " +
                 staging_.string() + ": " + ec.message());
-  ActiveSets().insert(out_);
 }
 
 OutputSet::~OutputSet() {
   ActiveSets().erase(out_);
   std::error_code ec;
-  if (!committed_) fs::remove_all(staging_, ec);
+  if (committed_) return;
+  fs::remove_all(staging_, ec);
+  RemoveEmptyFolders(created_parents_);  // a refused or failed run leaves no new folders behind
 }
 
 fs::path OutputSet::TransactionPath(const std::string& kind) const {

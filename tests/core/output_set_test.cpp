@@ -96,6 +96,30 @@ TEST(OutputSet, AFailedRunLeavesTheEarlierSetUntouched) {
   EXPECT_TRUE(Leftovers(out).empty());
 }
 
+// --out under folders that do not exist yet: a run that is refused (the constructor throws) or
+// fails (no Commit) removes the folders it created; a committed run keeps them; a folder that
+// someone else filled meanwhile stays.
+TEST(OutputSet, ARunThatNeverCommitsLeavesNoNewFolders) {
+  const fs::path base = test::TempDir() / "new";
+  const fs::path out = base / "a" / "b" / "out";
+  OutputSetOptions refused("test", {out / "a.txt"}, {"a.txt"});  // an input this run would replace
+  EXPECT_THROW(OutputSet(out, refused), Error);
+  EXPECT_FALSE(fs::exists(base));
+  {
+    OutputSet set(out, OutputSetOptions("test"));
+    Write(set.dir() / "a.txt", "half");
+  }  // no Commit
+  EXPECT_FALSE(fs::exists(base));
+  {
+    OutputSet set(out, OutputSetOptions("test"));
+    Write(base / "a" / "theirs.txt", "x");  // another process writes beside --out meanwhile
+  }
+  EXPECT_FALSE(fs::exists(base / "a" / "b"));
+  EXPECT_EQ(Read(base / "a" / "theirs.txt"), "x");
+  CommitSet(out, "1");
+  EXPECT_EQ(Read(out / "a.txt"), "a1");
+}
+
 TEST(OutputSet, ForeignFilesUnderPlannedNamesAreRefusedUnlessForced) {
   const fs::path out = test::TempDir() / "out";
   Write(out / "a.txt", "user's");

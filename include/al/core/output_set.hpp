@@ -40,7 +40,7 @@ class OutputSet {
  public:
   // All the checks above; throws al::Error (exit 2) before anything is computed.
   OutputSet(const std::filesystem::path& out, OutputSetOptions options);
-  ~OutputSet();  // drops the staging folder unless committed
+  ~OutputSet();  // unless committed: drops the staging folder and the parent folders it created
   OutputSet(const OutputSet&) = delete;
   OutputSet& operator=(const OutputSet&) = delete;
 
@@ -61,6 +61,8 @@ class OutputSet {
   std::vector<std::string> adopted_journals_;  // claimed by killed runs of the same --out
   bool inside_ = false;     // staged inside --out (a mount point, or a read-only parent)
   bool committed_ = false;
+  std::vector<std::filesystem::path> created_parents_;  // missing parents of --out it created
+  void Open(const std::filesystem::path& out);
   // ".NAME.KIND-PID" beside --out, or ".KIND-PID" inside it.
   std::filesystem::path TransactionPath(const std::string& kind) const;
 };
