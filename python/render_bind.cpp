@@ -51,7 +51,7 @@ py::object Render(const PyScene& scene, const py::object& cameras, const py::obj
   py::list result;
   for (std::size_t v = 0; v < views.size(); ++v) result.append(ToPython(views[v].name, std::move(outs[v])));
   if (py::isinstance<Camera>(cameras)) return result[0];
-  return std::move(result);
+  return result;
 }
 
 }  // namespace

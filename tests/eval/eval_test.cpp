@@ -400,7 +400,7 @@ TEST(EvalTable, BestBoldSecondUnderlined) {
   Table t;
   t.methods = {"fgs", "fgs+bk", "fgs_cp"};
   t.rows.push_back({"room-mug", {0.1, 0.3, 0.2}, {0.5, std::nullopt, 0.9}, {0.4, 0.2, 0.3},
-                    {0.8, 0.9, 0.95}, {0.2, 0.1, std::nullopt}, {}});
+                    {0.8, 0.9, 0.95}, {0.2, 0.1, std::nullopt}, {}, {}});
   const std::string md = TableMarkdown(t), tex = TableLatex(t);
   // The paper's groups, then the feature metrics (residual: lower is better).
   EXPECT_NE(md.find("| room-mug | 0.10 | **0.30** | <u>0.20</u> | <u>0.50</u> | – | **0.90** | 0.40 | **0.20** | "
