@@ -244,7 +244,8 @@ class PointRunner {
           {"segment_share", p.segment_share},
           {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
           {"spatial", go.spatial}, {"knn_checks", go.knn_checks}, {"kl_smoothing", go.kl_smoothing},
-          {"restore", decision.Restores()}, {"method", sc.options.method}}},
+          {"restore", solved.decision.value("restore", decision.Restores())},  // as the preset resolved it
+          {"method", sc.options.method}}},
         {"status", solved.empty_graph ? "empty_graph" : "ok"},
         {"graph", GraphRecord(graph_->stats)},
         {"solver", SolverRecord(solved.solver, solver_timings)},

@@ -60,7 +60,7 @@ nlohmann::json SceneIdentity(const SweepScene& s) {
             {"delta_mode", o.graph.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
             {"spatial", o.graph.spatial}, {"knn_checks", o.graph.knn_checks},
             {"kl_smoothing", o.graph.kl_smoothing}, {"normalize_features", o.graph.normalize_features},
-            {"restore", o.decision.Restores()}}}};
+            {"restore", DecisionOptions::Table().ToJson(o.decision).at("restore")}}}};
 }
 
 // The running executable: results of two builds must not be mixed in one sweep.
