@@ -51,16 +51,26 @@ constexpr SummaryRow kFeatureRows[] = {
 
 std::string Label(const json& column) { return column.value("label", column.value("name", std::string("?"))); }
 
+// The printed best of `key` over the columns when a direction is given and the columns do not all
+// print the same ("" otherwise: a row where every method ties has nothing to bold). Decided on the
+// printed values, as table.md's ranks are, so that two cells that read the same are both bold.
+std::string BestText(const json& columns, const std::string& key, int better, int digits) {
+  double best = NAN;
+  std::set<std::string> texts;
+  for (const json& c : columns)
+    if (c.contains(key) && c[key].is_number() && std::isfinite(c[key].get<double>()) && better != 0) {
+      const double v = c[key].get<double>();
+      texts.insert(HtmlNumber(v, digits));
+      if (std::isnan(best) || (better > 0 ? v > best : v < best)) best = v;
+    }
+  return texts.size() > 1 ? HtmlNumber(best, digits) : "";
+}
+
 // One table row: the value of `key` per column, the best bold when a direction is given.
 std::vector<std::string> MetricRow(const json& columns, const std::string& key, const std::string& name, int better,
                                    int digits) {
   std::vector<std::string> row = {HtmlEscape(name)};
-  double best = NAN;
-  for (const json& c : columns)
-    if (c.contains(key) && c[key].is_number() && std::isfinite(c[key].get<double>()) && better != 0) {
-      const double v = c[key].get<double>();
-      if (std::isnan(best) || (better > 0 ? v > best : v < best)) best = v;
-    }
+  const std::string best = BestText(columns, key, better, digits);
   for (const json& c : columns) {
     if (!c.contains(key) || c[key].is_null()) {
       row.push_back("–");
@@ -72,7 +82,7 @@ std::vector<std::string> MetricRow(const json& columns, const std::string& key, 
       continue;
     }
     const std::string text = HtmlNumber(v.get<double>(), digits);
-    const bool bold = columns.size() > 1 && better != 0 && v.get<double>() == best;
+    const bool bold = !best.empty() && text == best;
     row.push_back(bold ? "<b>" + text + "</b>" : text);
   }
   return row;

@@ -67,6 +67,24 @@ TEST(EvalReportHtml, ShowsEveryPartOfTheReport) {
   EXPECT_LT(html.find("id=\"view-v1\""), html.find("id=\"view-v0\""));
 }
 
+// Bold marks a best: a row where every method prints the same value has none; values that print
+// the same as the best are bold too.
+TEST(EvalReportHtml, TiesAreBoldOnlyWhenSomethingIsWorse) {
+  json report = Report();
+  auto& columns = report["metrics"]["columns"];
+  columns[0]["depth"]["mean_acc_delta_depth"] = 0.625;
+  columns[1]["depth"]["mean_acc_delta_depth"] = 0.625;  // a tie in every column
+  columns[0]["depth"]["collateral_depth"]["mean"] = 0.0200004;  // prints as 0.0200, like the other
+  columns[1]["depth"]["collateral_depth"]["mean"] = 0.02;
+  columns[1]["feature"]["mean_residual"] = 0.7;
+  columns[0]["feature"]["mean_residual"] = 0.2;
+  const std::string html = EvalReportHtml(report, Views(), json::array());
+  EXPECT_NE(html.find("0.625"), std::string::npos);
+  EXPECT_EQ(html.find("<b>0.625</b>"), std::string::npos) << "a tie in every column is not bold";
+  EXPECT_EQ(html.find("<b>0.0200</b>"), std::string::npos) << "equal when printed: a tie";
+  EXPECT_NE(html.find("<b>0.200</b>"), std::string::npos);  // the lower residual stays bold
+}
+
 TEST(EvalReportHtml, FlagsComeFromTheReportAndTheRecords) {
   const auto flagged = FlaggedViews(Report(), Views());
   ASSERT_EQ(flagged.size(), 1u);
