@@ -58,10 +58,8 @@ std::string OptionsDoc(const OptionTable<O>& table, const O& defaults = O{}) {
   std::ostringstream s;
   s << table.scope() << " options:\n";
   for (const auto& f : table.fields()) {
-    const nlohmann::json d = f.get(defaults);
     s << "    " << f.name << " (" << (f.range.empty() ? "text" : f.range) << ", default "
-      << (d.is_string() ? d.get<std::string>() : d.is_boolean() ? (d.get<bool>() ? "on" : "off") : d.dump())
-      << "): " << f.help << "\n";
+      << SpellOptionValue(f.get(defaults)) << "): " << f.help << "\n";
   }
   return s.str();
 }

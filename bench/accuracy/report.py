@@ -100,9 +100,6 @@ def write_raw(records, results_dir, meta):
     os.makedirs(results_dir, exist_ok=True)
     # gzip: 2,000 records with their prior statistics are 2 MB of JSON, 0.2 MB compressed (committed
     # files stay under 1 MiB); `gzip -dc bench/results/accuracy.json.gz` or Python's gzip module reads it.
-    stale = os.path.join(results_dir, "accuracy.json")
-    if os.path.exists(stale):
-        os.remove(stale)  # the uncompressed file earlier versions of this script wrote
     with gzip.open(os.path.join(results_dir, "accuracy.json.gz"), "wt") as fh:
         json.dump({"meta": meta, "records": records}, fh, separators=(",", ":"))
     cols = ["id", "source", "style", "seed", "half", "mask", "method", "config", "solver", "n", "status",

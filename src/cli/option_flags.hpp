@@ -13,15 +13,6 @@
 
 namespace al::cli {
 
-// The default as the help shows it ("0.8", "on", "distance").
-template <class O>
-std::string DefaultText(const OptionField<O>& field, const O& defaults) {
-  const nlohmann::json v = field.get(defaults);
-  if (v.is_boolean()) return v.get<bool>() ? "on" : "off";
-  if (v.is_number()) return FormatOptionNumber(v.get<double>());
-  return v.is_string() ? v.get<std::string>() : v.dump();
-}
-
 // What --help shows after the flag: INT, NUMBER, on|off, distance|cosine, or the custom range.
 template <class O>
 std::string TypeName(const OptionField<O>& field) {
@@ -71,7 +62,7 @@ void AddOptionFlags(CLI::App& app, const OptionTable<O>& table, O& options, cons
     if (numeric && !field.range.empty()) help += "; " + field.range;
     app.add_option_function<std::string>(flag, [store](const std::string& s) { store(s, true); }, help)
         ->type_name(TypeName(field))
-        ->default_str(DefaultText(field, options))
+        ->default_str(SpellOptionValue(field.get(options)))
         ->group(group);
   }
 }

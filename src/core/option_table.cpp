@@ -58,6 +58,12 @@ std::string NumericRange::Text() const {
   return text;
 }
 
+std::string SpellOptionValue(const nlohmann::json& value) {
+  if (value.is_boolean()) return value.get<bool>() ? "on" : "off";
+  if (value.is_number()) return FormatOptionNumber(value.get<double>());
+  return value.is_string() ? value.get<std::string>() : value.dump();
+}
+
 nlohmann::json ParseOptionText(OptionType type, const std::string& text, const std::string& what) {
   double number = 0.0;
   bool flag = false;

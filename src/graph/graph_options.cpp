@@ -15,7 +15,9 @@ OptionField<GraphOptions> PriorWeightField() {
                               "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
                               "alone; auto: 0.55 for --method gg and sags, else 0.5)",
                               false, {}, {}, {}};
-  f.get = [](const GraphOptions& o) { return o.prior.weight ? nlohmann::json(*o.prior.weight) : nlohmann::json("auto"); };
+  f.get = [](const GraphOptions& o) {
+    return o.prior.weight ? nlohmann::json(*o.prior.weight) : nlohmann::json("auto");
+  };
   f.set = [](GraphOptions& o, const nlohmann::json& v) {
     const std::string text = v.get<std::string>();
     if (text == "auto") return void(o.prior.weight.reset());

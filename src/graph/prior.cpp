@@ -131,19 +131,20 @@ std::vector<double> PrototypeCosine(const RowMatXf& f, const std::vector<double>
   std::vector<double> c(V, 0.0);
   for (std::size_t v = 0; v < V; ++v) {
     if (!has[v]) continue;
-    const Eigen::VectorXd row = f.row(Eigen::Index(v)).transpose().cast<double>();
+    const auto row = f.row(Eigen::Index(v)).transpose().cast<double>();  // an expression: no copy per row
     c[v] = row.dot(proto) / std::max(row.norm(), 1e-12);
   }
   return c;
 }
 
-// The prototype credit of every row: 1 where its cosine to the prototype is within one robust
-// standard deviation of the trusted removed rows' median, 0 beyond two, linear between. Trusted:
-// every removed row, unless the prior doubts a removed group — then only the removed rows of the
-// upper ("object") group, so a table top GG's hull took does not become part of the prototype.
+// The prototype credit of every row: 1 where its cosine to the prototype is within kPrototypeFull
+// robust standard deviations of the trusted removed rows' median, 0 beyond kPrototypeZero, linear
+// between. Trusted: every removed row, unless the prior doubts a removed group — then only the
+// removed rows of the upper ("object") group, so a table top GG's hull took does not become part of
+// the prototype.
 std::vector<double> CreditFromPrototype(const RowMatXf& f, const std::vector<double>& mask,
-                                    const std::vector<std::uint8_t>& has, const std::vector<double>& upper,
-                                    double doubt_removed, PriorStats& st) {
+                                        const std::vector<std::uint8_t>& has, const std::vector<double>& upper,
+                                        double doubt_removed, PriorStats& st) {
   const std::size_t V = mask.size();
   std::vector<std::uint8_t> trusted(V, 1);
   if (doubt_removed > 0.0)

@@ -13,7 +13,7 @@ namespace {
 constexpr int kDim = 8;
 
 struct Rows {
-  al::RowMatXf f;
+  al::RowMatXf f = al::RowMatXf(0, kDim);
   std::vector<double> mask;
   std::vector<int> kind;  // 0 background, 1 object, 2 table
 };
@@ -41,7 +41,6 @@ double MeanY(const Rows& r, const std::vector<double>& y, int kind, bool removed
 TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   std::mt19937 rng(3);
   Rows r;
-  r.f.resize(0, kDim);
   // FGS-like: the method removed 1000 object Gaussians and missed 300 of the same object.
   for (int i = 0; i < 1000; ++i) AddRow(r, rng, 0, 0.15, true, 1);
   for (int i = 0; i < 300; ++i) AddRow(r, rng, 0, 0.15, false, 1);
@@ -71,7 +70,6 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
 TEST(FeaturePrior, ATableTopTheHullTookIsDoubted) {
   std::mt19937 rng(5);
   Rows r;
-  r.f.resize(0, kDim);
   // GG-like: the object whole, plus 300 table Gaussians inside its hull; 2000 table kept.
   for (int i = 0; i < 1000; ++i) AddRow(r, rng, 0, 0.15, true, 1);
   for (int i = 0; i < 300; ++i) AddRow(r, rng, 1, 0.15, true, 2);
@@ -98,7 +96,6 @@ void AddAngled(Rows& r, std::mt19937& rng, double theta, bool removed, int kind)
 TEST(FeaturePrior, TheObjectsOwnTailIsNotDoubted) {
   std::mt19937 rng(7);
   Rows r;
-  r.f.resize(0, kDim);
   // FGS-like on a tight CLIP-like object (gen_scenes clip512 seed 6): a tight removed core, a
   // removed tail, and many misses just beyond it; background far away. The mixture's lower group
   // is tail + misses + background, broad and with a low removal rate: without the separation
@@ -120,7 +117,6 @@ TEST(FeaturePrior, TheObjectsOwnTailIsNotDoubted) {
 TEST(FeaturePrior, NeverFlipsAndLeavesZeroRowsAndTrivialMasksAlone) {
   std::mt19937 rng(9);
   Rows r;
-  r.f.resize(0, kDim);
   for (int i = 0; i < 400; ++i) AddRow(r, rng, i % 2, 0.6, i % 3 == 0, 0);
   r.f.row(5).setZero();
   r.f.row(6).setZero();

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -17,16 +18,22 @@
 
 namespace {
 
-// The refine stages on an in-memory synthetic scene (what `al-refine refine --method generic`
-// does after loading).
-al::SolveOutcome RefineDefault(const al::fixtures::SynthScene& s, const std::vector<bool>& removed,
-                               const al::DecisionOptions& decision = {}) {
+// An in-memory synthetic scene as the refine stages see it after loading (no preset).
+al::RefineInputs InputsOf(const al::fixtures::SynthScene& s, const std::vector<bool>& removed) {
   al::RefineInputs in;
   in.scene = std::make_shared<const al::Scene>(s.scene);
   in.SetFeatures(s.scene.features);
   in.feature_source = "semantic_*";
   in.removal.removed = removed;
   for (bool b : removed) in.removal.num_removed += b;
+  return in;
+}
+
+// The refine stages on an in-memory synthetic scene (what `al-refine refine --method generic`
+// does after loading).
+al::SolveOutcome RefineDefault(const al::fixtures::SynthScene& s, const std::vector<bool>& removed,
+                               const al::DecisionOptions& decision = {}) {
+  const al::RefineInputs in = InputsOf(s, removed);
   auto solver = al::MakeSolver("bk");
   return al::BuildAndSolve(in, al::GraphOptions{}, *solver, decision).outcome;
 }
@@ -109,11 +116,7 @@ TEST(RefineAccuracy, ASplitLookAlikeIsNotCompleted) {
 // --prototype-credit auto follows the preset (on for sags only); on/off override it.
 TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
   const al::fixtures::SynthScene s = Scene("room", 2, false);
-  al::RefineInputs in;
-  in.scene = std::make_shared<const al::Scene>(s.scene);
-  in.SetFeatures(s.scene.features);
-  in.removal.removed = s.removed.at("fgs");
-  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
   auto rows = [&](const nlohmann::json& preset, al::PriorSwitch credit) {
     in.preset = preset;
     al::GraphOptions o;
@@ -128,15 +131,27 @@ TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
   EXPECT_EQ(rows({{"prototype_credit", true}}, C::kOff), 0u);
 }
 
+// --prior-weight auto: the preset's weight (0.55 for gg and sags), 0.5 without one; a number wins.
+TEST(RefineAccuracy, PriorWeightFollowsThePreset) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
+  auto weight = [&](const nlohmann::json& preset, std::optional<double> w) {
+    in.preset = preset;
+    al::GraphOptions o;
+    o.prior.weight = w;
+    return al::BuildGraphFor(in, o).stats.prior.weight;
+  };
+  EXPECT_DOUBLE_EQ(weight({{"prior_weight", 0.55}}, std::nullopt), 0.55);
+  EXPECT_DOUBLE_EQ(weight({{"prior_weight", 0.5}}, std::nullopt), 0.5);
+  EXPECT_DOUBLE_EQ(weight(nullptr, std::nullopt), 0.5);
+  EXPECT_DOUBLE_EQ(weight({{"prior_weight", 0.55}}, 0.25), 0.25);
+}
+
 // --centre auto: the fgs preset's "shared" leaves a synth field (no strong shared component)
 // uncentred; without a preset, or with another one, auto centres; an explicit choice wins.
 TEST(RefineAccuracy, CentringFollowsThePreset) {
   const al::fixtures::SynthScene s = Scene("room", 2, false);
-  al::RefineInputs in;
-  in.scene = std::make_shared<const al::Scene>(s.scene);
-  in.SetFeatures(s.scene.features);
-  in.removal.removed = s.removed.at("fgs");
-  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
   auto centred = [&](const nlohmann::json& preset, al::Centring centre) {
     in.preset = preset;
     al::GraphOptions o;
@@ -157,11 +172,7 @@ TEST(RefineAccuracy, CentringFollowsThePreset) {
 // preset, or an explicit --restore on let the cut return them.
 TEST(RefineAccuracy, RestoreFollowsThePreset) {
   const al::fixtures::SynthScene s = Scene("room", 2, false);
-  al::RefineInputs in;
-  in.scene = std::make_shared<const al::Scene>(s.scene);
-  in.SetFeatures(s.scene.features);
-  in.removal.removed = s.removed.at("fgs");
-  for (bool b : in.removal.removed) in.removal.num_removed += b;
+  al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
   // Restored count; the report's decision says whether restore was on.
   auto restored = [&](const nlohmann::json& preset, al::Restore restore, bool expect_on) {
     in.preset = preset;

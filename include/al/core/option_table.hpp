@@ -49,6 +49,9 @@ struct OptionField {
 };
 
 std::string FormatOptionNumber(double value);                          // shortest round-trip text
+// A field's value as the CLI spells it: "0.8", "on"/"off" for a boolean, "distance"; what --help,
+// Python's docstrings and the range errors show.
+std::string SpellOptionValue(const nlohmann::json& value);
 nlohmann::json ParseOptionText(OptionType type, const std::string& text, const std::string& what);
 nlohmann::json ConvertOptionJson(OptionType type, const nlohmann::json& value, const std::string& what);
 
@@ -96,14 +99,11 @@ class OptionTable {
     return Add(std::move(f));
   }
   OptionTable&& Real(const std::string& name, double O::*member, NumericRange range, const std::string& help) && {
-    return std::move(*this).RealAt(name, [member](auto& o) -> auto& { return o.*member; }, range, help);
-  }
-  // A field of a nested options struct (GraphOptions::prior.weight).
-  template <class N>
-  OptionTable&& Real(const std::string& name, N O::*nested, double N::*member, NumericRange range,
-                     const std::string& help) && {
-    return std::move(*this).RealAt(name, [nested, member](auto& o) -> auto& { return (o.*nested).*member; }, range,
-                                   help);
+    OptionField<O> f{name, OptionType::kReal, range.Text(), help, false, {}, {}, {}};
+    f.get = [member](const O& o) { return nlohmann::json(o.*member); };
+    f.set = [member](O& o, const nlohmann::json& v) { o.*member = v.get<double>(); };
+    f.in_range = [member, range](const O& o) { return range.Contains(o.*member); };
+    return Add(std::move(f));
   }
   // A boolean spelled on|off (--spatial off); Switch: a flag without value (--restore).
   OptionTable&& Switch(const std::string& name, bool O::*member, const std::string& help) && {
@@ -142,7 +142,8 @@ class OptionTable {
   // Throws Error(kUsage) naming the first field outside its range.
   void Check(const O& options) const {
     for (const auto& f : fields_)
-      if (!f.in_range(options)) throw OptionOutOfRange(scope_, f.name, Spell(f.get(options)), f.range, f.help);
+      if (!f.in_range(options))
+        throw OptionOutOfRange(scope_, f.name, SpellOptionValue(f.get(options)), f.range, f.help);
   }
   // {name: value} of every field.
   nlohmann::json ToJson(const O& options) const {
@@ -184,19 +185,7 @@ class OptionTable {
   }
 
  private:
-  static std::string Spell(const nlohmann::json& v) {
-    if (v.is_number()) return FormatOptionNumber(v.get<double>());
-    return v.is_string() ? v.get<std::string>() : v.dump();
-  }
   // ref(o) is the field's value (a const or mutable reference, as o is).
-  template <class Ref>
-  OptionTable&& RealAt(const std::string& name, Ref ref, NumericRange range, const std::string& help) && {
-    OptionField<O> f{name, OptionType::kReal, range.Text(), help, false, {}, {}, {}};
-    f.get = [ref](const O& o) { return nlohmann::json(ref(o)); };
-    f.set = [ref](O& o, const nlohmann::json& v) { ref(o) = v.get<double>(); };
-    f.in_range = [ref, range](const O& o) { return range.Contains(ref(o)); };
-    return Add(std::move(f));
-  }
   template <class E, class Ref>
   OptionTable&& ChoiceAt(const std::string& name, Ref ref, std::vector<std::pair<std::string, E>> names,
                          const std::string& help) && {
