@@ -11,7 +11,8 @@ const std::vector<std::pair<std::string, PriorSwitch>> kPriorSwitchNames = {
 // auto or a number in [0, 1] (al/graph/prior.hpp: unset = the preset's weight).
 OptionField<GraphOptions> PriorWeightField() {
   const NumericRange range = NumericRange::Closed(0, 1);
-  OptionField<GraphOptions> f{"prior_weight", OptionType::kText, "auto|W",
+  // The range as --help and the out-of-range error spell it ("... = 1.5 must be auto|[0, 1]").
+  OptionField<GraphOptions> f{"prior_weight", OptionType::kText, "auto|" + range.Text(),
                               "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
                               "alone; auto: 0.55 for --method gg and sags, else 0.5)",
                               false, {}, {}, {}};
@@ -21,7 +22,7 @@ OptionField<GraphOptions> PriorWeightField() {
   f.set = [](GraphOptions& o, const nlohmann::json& v) {
     const std::string text = v.get<std::string>();
     if (text == "auto") return void(o.prior.weight.reset());
-    o.prior.weight = ParseOptionText(OptionType::kReal, text, "graph option 'prior_weight' (auto or w in [0, 1])")
+    o.prior.weight = ParseOptionText(OptionType::kReal, text, "graph option 'prior_weight' (auto|[0, 1])")
                          .get<double>();
   };
   f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.Weight()); };

@@ -308,4 +308,23 @@ TEST(Graph, ColourFallbackUsesRawDistance) {
   EXPECT_EQ(r.stats.zero_norm_features, 0u);
 }
 
+// --prior-weight: auto (the preset's) or a number; out of [0, 1] or not a number is a usage error
+// that says what is accepted.
+TEST(Graph, PriorWeightTakesAutoOrAWeight) {
+  const auto& table = al::GraphOptions::Table();
+  al::GraphOptions o;
+  table.SetText(o, "prior_weight", "0.3");
+  EXPECT_EQ(o.prior.weight, 0.3);
+  table.SetText(o, "prior_weight", "auto");
+  EXPECT_FALSE(o.prior.weight.has_value());
+  table.SetText(o, "prior_weight", "1.5");
+  try {
+    o.Check();
+    ADD_FAILURE() << "1.5 accepted";
+  } catch (const al::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'prior_weight' = 1.5 must be auto|[0, 1]"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(table.SetText(o, "prior_weight", "half"), al::Error);
+}
+
 }  // namespace
