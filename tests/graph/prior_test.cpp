@@ -63,8 +63,11 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   const std::vector<double> y_off = al::FeaturePrior(r.f, r.mask, off, &st_off);
   EXPECT_EQ(st_off.prototype_rows, 0u);
   EXPECT_DOUBLE_EQ(st_off.weight, st.weight);  // the credit changes q, not the weight
-  for (std::size_t i = 0; i < y.size(); ++i)
-    if (r.mask[i] < 0.5) EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    if (r.mask[i] < 0.5) {
+      EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
+    }
+  }
 }
 
 // A second object in the removed set (al/graph/removed_parts.hpp): no kept Gaussian gets credit,
