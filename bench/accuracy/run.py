@@ -5,7 +5,7 @@ behind, on scenes it was never tuned on? See docs/accuracy.md for what it measur
 usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves report|tune|tune,report] [--sources gen,synth]
                              [--styles d16,...] [--masks gg_like,...] [--solvers bk,cp] [--configs default,auto]
                              [--config NAME=FLAGS ...] [--baselines B1,B2,B3|none] [--n 60000]
-                             [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
+                             [--max-seeds N] [--seeds 28-40] [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
                              [--no-write] [--summary] [--write-only]
 
 Runs al-refine (the issue's command `--method M --k 10 --delta 0.8`, with the default flags and with
@@ -46,6 +46,7 @@ def parse_args():
     ap.add_argument("--baselines", default="B1,B2,B3")
     ap.add_argument("--n", type=int, default=60000)
     ap.add_argument("--max-seeds", type=int, default=0, help="at most this many seeds per style and half")
+    ap.add_argument("--seeds", default="", help="only these seeds, e.g. 28-40 or 8,9,28-30 (with the other filters)")
     ap.add_argument("--bin", default=os.path.join(REPO, "build", "al-refine"))
     ap.add_argument("--today-bin", default=os.environ.get("AL_ACCURACY_TODAY_BIN", ""),
                     help="an al-refine built before issue 13 (e.g. commit 0a8b341): adds the config "
@@ -85,7 +86,7 @@ def plan(args):
     masks = [m for m in args.masks.split(",") if m]
     todo = []
     for sc in scenes.scene_list(args.halves.split(","), args.quick, args.sources.split(","), styles,
-                                 args.max_seeds):
+                                 args.max_seeds, parse_seeds(args.seeds)):
         for mask, method in sc.masks().items():
             if masks and mask not in masks:
                 continue
@@ -95,6 +96,15 @@ def plan(args):
             for label, name, params in bls:
                 todo.append((sc, mask, method, "baseline", label, "-", params))
     return todo
+
+
+def parse_seeds(text):
+    """'28-40,3' -> {3, 28, ..., 40}; '' -> None (every seed)."""
+    seeds = set()
+    for part in filter(None, text.split(",")):
+        lo, _, hi = part.partition("-")
+        seeds.update(range(int(lo), int(hi or lo) + 1))
+    return seeds or None
 
 
 def binary_id(path):

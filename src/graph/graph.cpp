@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "al/core/error.hpp"
@@ -340,6 +341,16 @@ void AddGraphWarnings(GraphResult& out) {
   if (st.zero_norm_features > 0)
     out.warnings.push_back(std::to_string(st.zero_norm_features) +
                            " candidate nodes have zero-norm features and get no semantic edges");
+  if (st.second_object.Found()) {
+    const SecondObject& so = st.second_object;
+    char cosine[16];
+    std::snprintf(cosine, sizeof cosine, "%.2f", so.cosine);
+    out.warnings.push_back("the removed set holds a second object: a separate part of " + std::to_string(so.rows) +
+                           " Gaussians beside one of " + std::to_string(so.largest_rows) +
+                           ", mean features at cosine " + cosine + (st.prior.kept_credit ? "" :
+                           "; kept Gaussians get no feature credit (either may be the target; "
+                           "--no-second-object-guard credits them)"));
+  }
 }
 
 }  // namespace
@@ -375,7 +386,11 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   stage.Reset();
   const RowMatXf nf = NodeFeatures(features, P.node_ids, nodes.active, options, out.zero_norm, st);
   st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
-  if (options.normalize_features) P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior);
+  if (options.normalize_features) {
+    st.second_object = FindSecondObject(knn, P.y_remove, features, P.node_ids);
+    const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
+    P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior, !(guard && st.second_object.Found()));
+  }
   SpatialScale(knn, node_xyz, nodes, P, options, st);
   PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());
   GateAndWeigh(pairs, nf, out.zero_norm, node_xyz, gate, options, P, st);
@@ -408,6 +423,7 @@ nlohmann::json GraphStats::ToJson() const {
           {"features_centred", s.centred},
           {"features_common_component", s.common_component},
           {"prior", s.prior.ToJson()},
+          {"second_object", s.second_object.ToJson()},
           {"seconds", {{"candidates", s.seconds_candidates},
                        {"knn", s.seconds_knn},
                        {"edges", s.seconds_edges},

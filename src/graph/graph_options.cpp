@@ -62,7 +62,10 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                   "only)")
           .Choice("wide_credit", &O::prior, &PriorOptions::wide_credit, kPriorSwitchNames,
                   "credit kept Gaussians half-way down to the kept ones' projection, for a tight object (auto: "
-                  "on for --method fgs only)");
+                  "on for --method fgs only)")
+          .Choice("second_object_guard", &O::prior, &PriorOptions::second_object_guard, kPriorSwitchNames,
+                  "when the removed set holds a second object (a separate part with >= 20 % of it and "
+                  "different features), credit no kept Gaussian: either object may be the target (auto: on)");
   return table;
 }
 

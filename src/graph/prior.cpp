@@ -192,7 +192,7 @@ void PriorOptions::Check() const {
 }
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
-                                 PriorStats* stats) {
+                                 PriorStats* stats, bool credit_kept) {
   o.Check();
   const std::size_t V = mask.size();
   if (f.rows() != Eigen::Index(V)) throw Error("prior: feature rows do not match the nodes", ExitCode::kInternal);
@@ -200,6 +200,7 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   PriorStats st;
   const double weight = o.Weight();
   st.weight = weight;
+  st.kept_credit = credit_kept;
   const auto n_removed = std::size_t(std::count_if(mask.begin(), mask.end(), [](double m) { return m >= 0.5; }));
   if (weight == 0.0 || n_removed == 0 || n_removed == V) {
     if (stats) *stats = st;
@@ -220,8 +221,8 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
           : st.median_removed - std::max(kCreditZero * st.sigma_removed, kCreditGapShare * st.gap);
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
   const double doubt_removed = DoubtOfRemoved(st);
-  const double doubt_kept = Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull);
-  const std::vector<double> credit = o.prototype_credit != PriorSwitch::kOn
+  const double doubt_kept = credit_kept ? Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull) : 0.0;
+  const std::vector<double> credit = o.prototype_credit != PriorSwitch::kOn || !credit_kept
                                          ? std::vector<double>(V, 0.0)
                                          : CreditFromPrototype(f, mask, has, upper, doubt_removed, st);
   for (std::size_t v = 0; v < V; ++v) {
@@ -255,7 +256,8 @@ nlohmann::json PriorStats::ToJson() const {
           {"prototype_cos_median", prototype_cos_median},
           {"prototype_cos_sigma", prototype_cos_sigma},
           {"removed_doubted", removed_doubted},
-          {"kept_doubted", kept_doubted}};
+          {"kept_doubted", kept_doubted},
+          {"kept_credit", kept_credit}};
 }
 
 }  // namespace al

@@ -49,7 +49,7 @@ nlohmann::json CompareParams(const RefineOptions& o, const RefineInputs& in, con
   nlohmann::json params = {
       {"scene", o.scene}, {"removed", o.removed},
       {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-      {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
+      {"method", o.method}, {"preset", in.preset.ToJson()}, {"features", in.feature_spec},
       {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
       {"decoder", o.decoder}, {"solvers", co.solvers}, {"grid", SolverGridToString(co.grid)},
       {"solver_options", co.solver_options}, {"reference", co.reference ? "exact" : "none"},

@@ -66,7 +66,7 @@ nlohmann::json RefineParams(const RefineOptions& o, const RefineInputs& in, cons
   nlohmann::json params = {
       {"scene", o.scene}, {"removed", o.removed},
       {"removed_is", in.removed_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-      {"method", o.method}, {"preset", in.preset}, {"features", in.feature_spec},
+      {"method", o.method}, {"preset", in.preset.ToJson()}, {"features", in.feature_spec},
       {"feature_source", in.feature_source}, {"colour_fallback", in.colour_fallback},
       {"decoder", o.decoder}, {"solver", solver_name}, {"solver_options", o.solver_options},
       {"labels", o.labels}, {"max_unmatched", o.max_unmatched}, {"match_tol", o.match_tol},

@@ -26,45 +26,6 @@ bool EndsWith(const std::string& s, const std::string& suffix) {
                     [](char a, char b) { return std::tolower(a) == std::tolower(b); });
 }
 
-// What a --method preset sets (SPEC §3 table); reported under params.preset.
-struct Preset {
-  // A prefix, a preference list ("obj_dc_,auto": the first present; auto = the standard
-  // prefixes; none present: the colour fallback, with a warning) or "colour".
-  std::string features;
-  // For a subset PLY only: a mask or index list is always the removed set unless --removed-is
-  // says otherwise (GG writes its remaining scene as a PLY, never as a mask).
-  RemovedIs subset_ply_is = RemovedIs::kRemoved;
-  bool gc_polarity = false;
-  // The prior's prototype credit under --prototype-credit auto (al/graph/prior.hpp): only SAGS's
-  // misses are thin parts of the object alone; GG's and FGS's removed sets can hold a second
-  // object whose kept part it would credit (docs/accuracy.md).
-  bool prototype_credit = false;
-  // ... and its wide credit window: FGS misses sit just below a tight object; GG's hull puts table
-  // top in the object group, whose kept part the wide window would credit.
-  bool wide_credit = false;
-  // --centre auto: FGS-like refinement loses by centring a field without a shared component
-  // (docs/refine.md: tuning half, gen D = 16/32 and synth); the other methods gain or break even.
-  Centring centre = Centring::kOn;
-  // --restore auto: GaussianCut's masks are precise; on synth's gc masks (tuning and reporting
-  // halves) every Gaussian the cut restored was the object (docs/accuracy.md).
-  bool restore = true;
-  // --prior-weight auto: over-removing GG and SAGS's thin misses gain when a doubted label leans
-  // to the features' side (0.55; tuning half: gen gg-like +0.065 → +0.075, sags-like +0.016 →
-  // +0.026); for FGS it let synth's grabbed look-alike in (docs/refine.md).
-  double prior_weight = 0.5;
-};
-
-Preset PresetFor(const std::string& method) {
-  if (method == "fgs") return {.features = "semantic_", .wide_credit = true, .centre = Centring::kShared};
-  if (method == "gg")
-    return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining, .prior_weight = 0.55};
-  // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
-  if (method == "sags") return {.features = "auto", .prototype_credit = true, .prior_weight = 0.55};
-  if (method == "gc") return {.features = "colour", .gc_polarity = true, .restore = false};
-  if (method == "generic") return {.features = "auto"};
-  throw Error("--method: unknown '" + method + "' (fgs, gg, sags, gc, generic)", ExitCode::kUsage);
-}
-
 int TargetFromLabels(const std::string& labels, const std::optional<int>& object_id) {
   if (object_id) return *object_id;
   const fs::path target = fs::path(labels).parent_path() / "target.json";
@@ -148,24 +109,14 @@ void WarnIfMostOfTheScene(const RefineInputs& in, nlohmann::json& report) {
         "): check --removed and --removed-is");
 }
 
-// auto = what the preset says (off without a preset: the generic model).
-void ResolvePriorSwitch(const nlohmann::json& preset, const char* key, PriorSwitch& value) {
-  if (value != PriorSwitch::kAuto) return;
-  value = preset.is_object() && preset.value(key, false) ? PriorSwitch::kOn : PriorSwitch::kOff;
+// auto = what the preset says.
+void ResolvePriorSwitch(bool preset_value, PriorSwitch& value) {
+  if (value == PriorSwitch::kAuto) value = preset_value ? PriorSwitch::kOn : PriorSwitch::kOff;
 }
 
-// auto = the preset's centring (on without a preset).
-Centring ResolveCentring(const nlohmann::json& preset, Centring value) {
-  if (value != Centring::kAuto) return value;
-  const bool shared = preset.is_object() && preset.value("centre", std::string("on")) == "shared";
-  return shared ? Centring::kShared : Centring::kOn;
-}
-
-// auto = the preset's restore (on without a preset).
-DecisionOptions ResolveRestore(const nlohmann::json& preset, DecisionOptions decision) {
-  if (decision.restore != Restore::kAuto) return decision;
-  const bool off = preset.is_object() && !preset.value("restore", true);
-  decision.restore = off ? Restore::kOff : Restore::kOn;
+// auto = the preset's restore.
+DecisionOptions ResolveRestore(const MethodPreset& preset, DecisionOptions decision) {
+  if (decision.restore == Restore::kAuto) decision.restore = preset.restore ? Restore::kOn : Restore::kOff;
   return decision;
 }
 
@@ -173,10 +124,10 @@ GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& opti
                             const std::vector<std::uint8_t>* extra_seeds) {
   GraphOptions go = options;
   go.normalize_features = !inputs.colour_fallback;
-  ResolvePriorSwitch(inputs.preset, "prototype_credit", go.prior.prototype_credit);
-  ResolvePriorSwitch(inputs.preset, "wide_credit", go.prior.wide_credit);
-  go.centre = ResolveCentring(inputs.preset, go.centre);
-  if (!go.prior.weight) go.prior.weight = inputs.preset.is_object() ? inputs.preset.value("prior_weight", 0.5) : 0.5;
+  ResolvePriorSwitch(inputs.preset.prototype_credit, go.prior.prototype_credit);
+  ResolvePriorSwitch(inputs.preset.wide_credit, go.prior.wide_credit);
+  if (go.centre == Centring::kAuto) go.centre = inputs.preset.centre;
+  if (!go.prior.weight) go.prior.weight = inputs.preset.prior_weight;
   return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
 }
 
@@ -245,17 +196,6 @@ GroundTruth LoadGroundTruth(const RefineOptions& o, const Scene& scene, nlohmann
   return MakeGroundTruth({l64.begin(), l64.end()}, TargetFromLabels(o.labels, o.object_id), scene);
 }
 
-nlohmann::json PresetJson(const Preset& preset) {
-  return {{"features", preset.features},
-          {"subset_ply_is", preset.subset_ply_is == RemovedIs::kRemaining ? "remaining" : "removed"},
-          {"gc_polarity", preset.gc_polarity},
-          {"prototype_credit", preset.prototype_credit},
-          {"wide_credit", preset.wide_credit},
-          {"centre", preset.centre == Centring::kShared ? "shared" : "on"},
-          {"restore", preset.restore},
-          {"prior_weight", preset.prior_weight}};
-}
-
 // The FGS deletion rule on the inputs' features (method fgs with prompt embeddings).
 void DeriveFgsRemoval(const RefineOptions& o, RefineInputs& in, nlohmann::json& report) {
   const RowMatXf prompts = ReadMatrixNpy(o.prompt_embeddings);
@@ -275,7 +215,7 @@ void DeriveFgsRemoval(const RefineOptions& o, RefineInputs& in, nlohmann::json& 
                                  " Gaussians lie within 1e-3 of the FGS threshold (upstream float16 may flip them)");
 }
 
-RemovalLoadOptions RemovalOptionsFor(const RefineOptions& o, const RefineInputs& in, const Preset& preset) {
+RemovalLoadOptions RemovalOptionsFor(const RefineOptions& o, const RefineInputs& in, const MethodPreset& preset) {
   RemovalLoadOptions lo;
   lo.removed_is = in.removed_is;
   lo.max_unmatched = o.max_unmatched;
@@ -330,7 +270,7 @@ std::string ResolveSolverName(const std::string& name) {
 
 RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
   if (o.scene.empty()) throw Error("--scene is required", ExitCode::kUsage);
-  const Preset preset = PresetFor(o.method);
+  const MethodPreset preset = MethodPresetFor(o.method);
   const bool derive_fgs = o.removed.empty() && !o.prompt_embeddings.empty();
   if (o.removed.empty() && !derive_fgs)
     throw Error("--removed is required (or, with --method fgs, --prompt-embeddings and --positive)",
@@ -339,7 +279,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
   StageClock clock{o, report, {}};
 
   RefineInputs in;
-  in.preset = PresetJson(preset);
+  in.preset = preset;
   in.feature_spec = o.features.empty() ? preset.features : o.features;
   const bool feat_file = EndsWith(in.feature_spec, ".npy") || EndsWith(in.feature_spec, ".ply");
   PlyReadOptions ro;
@@ -372,7 +312,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
 
 RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nlohmann::json& report) {
   if (!data.scene) throw Error("refine: no scene given", ExitCode::kUsage);
-  const Preset preset = PresetFor(o.method);
+  const MethodPreset preset = MethodPresetFor(o.method);
   const bool derive_fgs = data.removed.data == nullptr && !o.prompt_embeddings.empty();
   if (data.removed.data == nullptr && !derive_fgs)
     throw Error("refine: a removed set is required (or, with method fgs, prompt_embeddings and positive)",
@@ -383,7 +323,7 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
 
   RefineInputs in;
   in.scene = data.scene;
-  in.preset = PresetJson(preset);
+  in.preset = preset;
   in.feature_spec = o.features.empty() ? preset.features : o.features;
   FeaturesFromData(data, in, report);
   FinishFeatures(o, in);

@@ -63,8 +63,37 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
   const std::vector<double> y_off = al::FeaturePrior(r.f, r.mask, off, &st_off);
   EXPECT_EQ(st_off.prototype_rows, 0u);
   EXPECT_DOUBLE_EQ(st_off.weight, st.weight);  // the credit changes q, not the weight
-  for (std::size_t i = 0; i < y.size(); ++i)
-    if (r.mask[i] < 0.5) EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    if (r.mask[i] < 0.5) {
+      EXPECT_LE(y_off[i], y[i] + 1e-12) << i;
+    }
+  }
+}
+
+// A second object in the removed set (al/graph/removed_parts.hpp): no kept Gaussian gets credit,
+// the removed labels are untouched by that choice.
+TEST(FeaturePrior, NoKeptCreditWhenTheRemovedSetHoldsASecondObject) {
+  std::mt19937 rng(3);
+  Rows r;
+  for (int i = 0; i < 1000; ++i) AddRow(r, rng, 0, 0.15, true, 1);
+  for (int i = 0; i < 300; ++i) AddRow(r, rng, 0, 0.15, false, 1);
+  for (int i = 0; i < 2000; ++i) AddRow(r, rng, 1 + i % 3, 0.3, false, 0);
+  al::PriorOptions on;
+  on.prototype_credit = on.wide_credit = al::PriorSwitch::kOn;
+  al::PriorStats with, without;
+  const std::vector<double> y = al::FeaturePrior(r.f, r.mask, on, &with, true);
+  const std::vector<double> y_guarded = al::FeaturePrior(r.f, r.mask, on, &without, false);
+  EXPECT_GT(with.kept_doubted, 200u);
+  EXPECT_TRUE(with.kept_credit);
+  EXPECT_EQ(without.kept_doubted, 0u);
+  EXPECT_FALSE(without.kept_credit);
+  for (std::size_t i = 0; i < y.size(); ++i) {
+    if (r.mask[i] < 0.5) {
+      EXPECT_EQ(y_guarded[i], 0.0) << i;
+    } else {
+      EXPECT_DOUBLE_EQ(y_guarded[i], y[i]) << i;
+    }
+  }
 }
 
 TEST(FeaturePrior, ATableTopTheHullTookIsDoubted) {

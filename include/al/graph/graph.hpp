@@ -10,6 +10,7 @@
 
 #include "al/core/option_table.hpp"
 #include "al/graph/prior.hpp"
+#include "al/graph/removed_parts.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
 
@@ -80,6 +81,7 @@ struct GraphStats {
   bool centred = false;                 // features centred on the scene mean
   double common_component = 0.0;        // |mean of the scene's unit feature rows| (0: not computed)
   PriorStats prior;                     // the unary's feature prior (weight 0: off)
+  SecondObject second_object;           // a second object in the removed set (al/graph/removed_parts.hpp)
   double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
   double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;

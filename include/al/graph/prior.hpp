@@ -55,6 +55,9 @@ struct PriorOptions {
   double Weight() const { return weight.value_or(0.5); }
   PriorSwitch prototype_credit = PriorSwitch::kAuto;
   PriorSwitch wide_credit = PriorSwitch::kAuto;
+  // No credit for kept Gaussians when the removed set holds a second object
+  // (al/graph/removed_parts.hpp); auto = on (every preset).
+  PriorSwitch second_object_guard = PriorSwitch::kAuto;
   void Check() const;   // throws al::Error (usage) outside [0, 1]
 };
 
@@ -70,12 +73,14 @@ struct PriorStats {
   double prototype_cos_median = 0.0, prototype_cos_sigma = 0.0;  // their cosines to it
   std::size_t removed_doubted = 0;  // removed candidates with q < 1/2
   std::size_t kept_doubted = 0;     // kept candidates with q > 1/2
+  bool kept_credit = true;          // false: a second object in the removed set (no kept credit)
   nlohmann::json ToJson() const;
 };
 
 // features: V×D unit rows (zero rows = no evidence: y = mask); mask: V in {0, 1}. Returns y (V).
 // With no removed or no kept candidate the prior has nothing to learn from: y = mask.
+// credit_kept = false: no kept Gaussian gets credit (a second object in the removed set).
 std::vector<double> FeaturePrior(const RowMatXf& features, const std::vector<double>& mask,
-                                 const PriorOptions& options, PriorStats* stats = nullptr);
+                                 const PriorOptions& options, PriorStats* stats = nullptr, bool credit_kept = true);
 
 }  // namespace al

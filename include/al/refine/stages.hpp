@@ -14,6 +14,7 @@
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
 #include "al/io/masks.hpp"
+#include "al/refine/preset.hpp"
 #include "al/refine/refine.hpp"
 #include "al/scene/scene.hpp"
 #include "al/solver.hpp"
@@ -35,7 +36,7 @@ struct RefineInputs {
   std::string feature_source;         // what was used, for the report
   RemovedIs removed_is = RemovedIs::kRemoved;
   RemovalSet removal;
-  nlohmann::json preset;              // the method preset's values (report params.preset)
+  MethodPreset preset;                // the method's preset (report params.preset)
   nlohmann::json fgs_mask;            // null unless the FGS mask was derived from prompts
   std::optional<GroundTruth> ground_truth;
 

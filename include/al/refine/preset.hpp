@@ -1,0 +1,46 @@
+// What a --method preset sets (SPEC §3 table): the feature source, how a subset PLY is read, and
+// the value each `auto` graph/decision option takes for that method. Reported under params.preset.
+#pragma once
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "al/graph/graph.hpp"
+#include "al/io/masks.hpp"
+
+namespace al {
+
+struct MethodPreset {
+  // A prefix, a preference list ("obj_dc_,auto": the first present; auto = the standard
+  // prefixes; none present: the colour fallback, with a warning) or "colour".
+  std::string features = "auto";
+  // For a subset PLY only: a mask or index list is always the removed set unless --removed-is
+  // says otherwise (GG writes its remaining scene as a PLY, never as a mask).
+  RemovedIs subset_ply_is = RemovedIs::kRemoved;
+  bool gc_polarity = false;
+  // The prior's prototype credit under --prototype-credit auto (al/graph/prior.hpp): only SAGS's
+  // misses are thin parts of the object alone; GG's and FGS's removed sets can hold a second
+  // object whose kept part it would credit (docs/accuracy.md).
+  bool prototype_credit = false;
+  // ... and its wide credit window: FGS misses sit just below a tight object; GG's hull puts table
+  // top in the object group, whose kept part the wide window would credit.
+  bool wide_credit = false;
+  // --centre auto: FGS-like refinement loses by centring a field without a shared component
+  // (docs/refine.md: tuning half, gen D = 16/32 and synth); the other methods gain or break even.
+  Centring centre = Centring::kOn;
+  // --restore auto: GaussianCut's masks are precise; on synth's gc masks (tuning and reporting
+  // halves) every Gaussian the cut restored was the object (docs/accuracy.md).
+  bool restore = true;
+  // --prior-weight auto: over-removing GG and SAGS's thin misses gain when a doubted label leans
+  // to the features' side (0.55; tuning half: gen gg-like +0.065 → +0.075, sags-like +0.016 →
+  // +0.026); for FGS it let synth's grabbed look-alike in (docs/refine.md).
+  double prior_weight = 0.5;
+
+  nlohmann::json ToJson() const;
+};
+
+// The preset of fgs, gg, sags, gc or generic (= a default MethodPreset: the generic model).
+// Throws al::Error (usage) for any other name.
+MethodPreset MethodPresetFor(const std::string& method);
+
+}  // namespace al

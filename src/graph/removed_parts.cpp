@@ -1,0 +1,95 @@
+// FindSecondObject (al/graph/removed_parts.hpp). Sequential sums in node order: the result does
+// not depend on the thread count.
+#include "al/graph/removed_parts.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace al {
+namespace {
+
+std::int32_t Root(std::vector<std::int32_t>& parent, std::int32_t x) {
+  while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
+  return x;
+}
+
+// The longest kNN edge that still links two removed candidates into one part.
+double LinkLength(const KnnResult& knn) {
+  std::vector<float> d;
+  d.reserve(knn.sq_dist.size());
+  for (std::size_t i = 0; i < knn.sq_dist.size(); ++i)
+    if (knn.neighbors[i] >= 0) d.push_back(knn.sq_dist[i]);
+  if (d.empty()) return 0.0;
+  std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(d.size() / 2), d.end());
+  return kPartLinkScale * std::sqrt(double(d[d.size() / 2]));
+}
+
+// Part root of every removed node (−1 for kept ones), over short kNN edges between removed nodes.
+std::vector<std::int32_t> RemovedParts(const KnnResult& knn, const std::vector<double>& removed) {
+  const std::size_t V = removed.size();
+  const double link_sq = LinkLength(knn) * LinkLength(knn);
+  std::vector<std::int32_t> parent(V);
+  std::iota(parent.begin(), parent.end(), 0);
+  for (std::size_t u = 0; u < V; ++u) {
+    if (removed[u] < 0.5) continue;
+    for (int c = 0; c < knn.k; ++c) {
+      const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
+      if (v < 0 || removed[std::size_t(v)] < 0.5 || knn.sq_dist[u * std::size_t(knn.k) + std::size_t(c)] > link_sq)
+        continue;
+      const std::int32_t a = Root(parent, std::int32_t(u)), b = Root(parent, v);
+      if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
+    }
+  }
+  std::vector<std::int32_t> part(V, -1);
+  for (std::size_t u = 0; u < V; ++u)
+    if (removed[u] >= 0.5) part[u] = Root(parent, std::int32_t(u));
+  return part;
+}
+
+// Mean unit feature of the nodes of one part (zero rows carry no direction).
+Eigen::VectorXd PartMean(const std::vector<std::int32_t>& part, std::int32_t root,
+                         Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids) {
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(features.cols());
+  for (std::size_t u = 0; u < part.size(); ++u) {
+    if (part[u] != root) continue;
+    const Eigen::VectorXd f = features.row(Eigen::Index(node_ids[u])).transpose().cast<double>();
+    const double norm = f.norm();
+    if (norm > 0 && std::isfinite(norm)) sum += f / norm;
+  }
+  return sum;
+}
+
+double Cosine(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
+  const double n = a.norm() * b.norm();
+  return n > 0 ? a.dot(b) / n : 1.0;  // no direction: no evidence of a second object
+}
+
+}  // namespace
+
+SecondObject FindSecondObject(const KnnResult& knn, const std::vector<double>& removed, Eigen::Ref<const RowMatXf> features,
+                              const std::vector<std::int64_t>& node_ids) {
+  SecondObject out;
+  const std::vector<std::int32_t> part = RemovedParts(knn, removed);
+  std::vector<std::size_t> size(part.size(), 0);
+  std::size_t n_removed = 0;
+  for (std::int32_t p : part)
+    if (p >= 0) ++size[std::size_t(p)], ++n_removed;
+  if (n_removed == 0) return out;
+  const auto largest = std::int32_t(std::max_element(size.begin(), size.end()) - size.begin());
+  const Eigen::VectorXd largest_mean = PartMean(part, largest, features, node_ids);
+  for (std::size_t r = 0; r < size.size(); ++r) {
+    if (std::int32_t(r) == largest || double(size[r]) < kSecondShare * double(n_removed)) continue;
+    const double cosine = Cosine(PartMean(part, std::int32_t(r), features, node_ids), largest_mean);
+    if (cosine >= kSameObjectCosine || (out.Found() && cosine >= out.cosine)) continue;
+    out = {size[r], size[std::size_t(largest)], double(size[r]) / double(n_removed), cosine};
+  }
+  return out;
+}
+
+nlohmann::json SecondObject::ToJson() const {
+  if (!Found()) return nullptr;
+  return {{"rows", rows}, {"largest_rows", largest_rows}, {"share", share}, {"cosine", cosine}};
+}
+
+}  // namespace al
