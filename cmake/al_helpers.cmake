@@ -34,8 +34,8 @@ function(al_add_test_suite name dir)
   target_compile_options(${name} PRIVATE $<$<CONFIG:Release>:-O1>)
   target_link_libraries(${name} PRIVATE ${ARG_DEPS} al_test_data GTest::gtest_main)
   target_include_directories(${name} PRIVATE ${CMAKE_CURRENT_SOURCE_DIR})
-  target_compile_definitions(${name} PRIVATE AL_SOURCE_DIR="${PROJECT_SOURCE_DIR}"
-                                             AL_BINARY_DIR="${PROJECT_BINARY_DIR}")
+  # (No build-folder path in the flags: ccache then reuses a suite's objects in a fresh build folder.)
+  target_compile_definitions(${name} PRIVATE AL_SOURCE_DIR="${PROJECT_SOURCE_DIR}")
   gtest_discover_tests(${name} DISCOVERY_TIMEOUT 60
                        PROPERTIES ENVIRONMENT "AL_SOURCE_DIR=${PROJECT_SOURCE_DIR}")
 endfunction()
