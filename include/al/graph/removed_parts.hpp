@@ -1,11 +1,11 @@
 // A second object in the removed set [project, docs/refine.md]. A removal method can take two
 // objects: FGS a look-alike its prompt also matches, GG a neighbour its hull swallowed. The
 // feature prior then credits the kept part of whichever the features point at, and refinement
-// completes an object the user did not ask for (synth fgs, 20 tuning scenes per preset: 2 scenes
-// lowered by up to 0.048 F1). From the mask alone nobody can tell which of the two is the target
-// (in 10 of 24 such tuning scenes the look-alike's part was the larger), so when the removed set
-// holds a second object the prior credits no kept Gaussian; the cut still adds what the graph
-// connects, and removed Gaussians can still be doubted.
+// completes an object the user did not ask for (synth fgs, tuning half, 60 scenes: 2 lowered by
+// more than 0.01 with bk, worst −0.048; 3 with cp, worst −0.061). From the mask alone nobody can
+// tell which of the two is the target (in 23 of those 60 masks the look-alike's part was the
+// larger), so when the removed set holds a second object the prior credits no kept Gaussian; the
+// cut still adds what the graph connects, and removed Gaussians can still be doubted.
 //
 // "A second object": a spatially separate part of the removed candidates (connected over kNN
 // edges no longer than kPartLinkScale × the median kNN edge) that holds at least kSecondShare of
