@@ -28,7 +28,7 @@ double LinkLength(const KnnResult& knn) {
 // Part root of every removed node (−1 for kept ones), over short kNN edges between removed nodes.
 std::vector<std::int32_t> RemovedParts(const KnnResult& knn, const std::vector<double>& removed) {
   const std::size_t V = removed.size();
-  const double link_sq = LinkLength(knn) * LinkLength(knn);
+  const double link = LinkLength(knn), link_sq = link * link;
   std::vector<std::int32_t> parent(V);
   std::iota(parent.begin(), parent.end(), 0);
   for (std::size_t u = 0; u < V; ++u) {
