@@ -43,12 +43,12 @@ py::object FromJson(const nlohmann::json& j) {
     case nlohmann::json::value_t::array: {
       py::list out;
       for (const auto& item : j) out.append(FromJson(item));
-      return std::move(out);
+      return out;
     }
     case nlohmann::json::value_t::object: {
       py::dict out;
       for (const auto& [key, value] : j.items()) out[py::str(key)] = FromJson(value);
-      return std::move(out);
+      return out;
     }
     default: return py::none();
   }
