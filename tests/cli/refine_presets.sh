@@ -69,6 +69,15 @@ restored=$(jget "$T/fgs/report.json" "['counts']['restored']")
 [ "$(jget "$T/fgs/report.json" "['params']['restore']")" = auto ] || fail "restore is auto by default"
 [ "$(jget "$T/fgs/report.json" "['decision']['restore']")" = True ] || fail "fgs restores by default"
 [ "$(jget "$T/fgs/report.json" "['gt']['change']['added']")" = "$added" ] || fail "gt.change.added"
+# The simulated FGS also took part of a look-alike: the report names the second object, and the
+# prior credits no kept Gaussian unless --no-second-object-guard.
+[ "$(jget "$T/fgs/report.json" "['graph']['second_object']['share'] >= 0.2")" = True ] || fail "second object not reported"
+[ "$(jget "$T/fgs/report.json" "['graph']['prior']['kept_credit']")" = False ] || fail "kept credit with a second object"
+jget "$T/fgs/report.json" "['warnings']" | grep -q "holds a second object" || fail "no second-object warning"
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-second-object-guard \
+  --out "$T/fgs_unguarded" --quiet >/dev/null || fail "fgs --no-second-object-guard run"
+[ "$(jget "$T/fgs_unguarded/report.json" "['graph']['prior']['kept_credit']")" = True ] || fail "guard not turned off"
+[ "$(jget "$T/fgs_unguarded/report.json" "['params']['second_object_guard']")" = off ] || fail "guard param"
 # --no-restore: refinement only adds.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
   --labels "$T/s/labels.npy" --out "$T/fgs_add" --quiet >/dev/null || fail "fgs --no-restore run"
