@@ -14,7 +14,7 @@ OptionField<GraphOptions> PriorWeightField() {
   // The range as --help and the out-of-range error spell it ("... = 1.5 must be auto|[0, 1]").
   OptionField<GraphOptions> f{"prior_weight", OptionType::kText, "auto|" + range.Text(),
                               "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
-                              "alone; auto: 0.65 for --method gg, 0.55 for sags, else 0.5)",
+                              "alone; auto: 0.55 for --method gg and sags, else 0.5)",
                               false, {}, {}, {}};
   f.get = [](const GraphOptions& o) {
     return o.prior.weight ? nlohmann::json(*o.prior.weight) : nlohmann::json("auto");

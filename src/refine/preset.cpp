@@ -8,7 +8,7 @@ namespace al {
 MethodPreset MethodPresetFor(const std::string& method) {
   if (method == "fgs") return {.features = "semantic_", .wide_credit = true, .centre = Centring::kShared};
   if (method == "gg")
-    return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining, .prior_weight = 0.65};
+    return {.features = "obj_dc_,auto", .subset_ply_is = RemovedIs::kRemaining, .prior_weight = 0.55};
   // SAGS has no features of its own: the scene's semantic ones when present (FORMATS.md §5.3).
   if (method == "sags") return {.features = "auto", .prototype_credit = true, .prior_weight = 0.55};
   if (method == "gc") return {.features = "colour", .gc_polarity = true, .restore = false};

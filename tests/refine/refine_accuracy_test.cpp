@@ -133,7 +133,7 @@ TEST(RefineAccuracy, PrototypeCreditFollowsThePreset) {
   EXPECT_EQ(rows({.prototype_credit = true}, C::kOff), 0u);
 }
 
-// --prior-weight auto: the preset's weight (0.65 for gg, 0.55 for sags), 0.5 for the others; a number wins.
+// --prior-weight auto: the preset's weight (0.55 for gg and sags), 0.5 without one; a number wins.
 TEST(RefineAccuracy, PriorWeightFollowsThePreset) {
   const al::fixtures::SynthScene s = Scene("room", 2, false);
   al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
@@ -144,8 +144,7 @@ TEST(RefineAccuracy, PriorWeightFollowsThePreset) {
     return al::BuildGraphFor(in, o).stats.prior.weight;
   };
   EXPECT_DOUBLE_EQ(weight({.prior_weight = 0.55}, std::nullopt), 0.55);
-  EXPECT_DOUBLE_EQ(weight(al::MethodPresetFor("gg"), std::nullopt), 0.65);
-  EXPECT_DOUBLE_EQ(weight(al::MethodPresetFor("sags"), std::nullopt), 0.55);
+  EXPECT_DOUBLE_EQ(weight(al::MethodPresetFor("gg"), std::nullopt), 0.55);
   EXPECT_DOUBLE_EQ(weight(al::MethodPresetFor("fgs"), std::nullopt), 0.5);
   EXPECT_DOUBLE_EQ(weight(al::MethodPresetFor("generic"), std::nullopt), 0.5);
   EXPECT_DOUBLE_EQ(weight({.prior_weight = 0.55}, 0.25), 0.25);

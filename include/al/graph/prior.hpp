@@ -48,9 +48,9 @@ namespace al {
 enum class PriorSwitch { kAuto, kOn, kOff };
 
 struct PriorOptions {
-  // w in [0, 1]; 0 = the mask alone (SPEC §4.7). Unset = auto: the --method preset's (0.65 for gg,
-  // 0.55 for sags: a doubted label leans to the features' side; docs/refine.md), 0.5 otherwise and
-  // for a direct caller of FeaturePrior or BuildRefineGraph.
+  // w in [0, 1]; 0 = the mask alone (SPEC §4.7). Unset = auto: the --method preset's (0.55 for gg
+  // and sags: a doubted label leans to the features' side; docs/refine.md), 0.5 otherwise and for
+  // a direct caller of FeaturePrior or BuildRefineGraph.
   std::optional<double> weight;
   double Weight() const { return weight.value_or(0.5); }
   PriorSwitch prototype_credit = PriorSwitch::kAuto;

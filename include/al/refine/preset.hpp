@@ -32,9 +32,8 @@ struct MethodPreset {
   // halves) every Gaussian the cut restored was the object (docs/accuracy.md).
   bool restore = true;
   // --prior-weight auto: over-removing GG and SAGS's thin misses gain when a doubted label leans
-  // to the features' side (tuning half: sags 0.55, sags-like +0.016 → +0.026; gg 0.55, gen
-  // gg-like +0.065 → +0.075, then 0.65, +0.0749 → +0.0780 bk, synth gg unchanged); for FGS it
-  // let synth's grabbed look-alike in (docs/refine.md).
+  // to the features' side (0.55; tuning half: gen gg-like +0.065 → +0.075, sags-like +0.016 →
+  // +0.026); for FGS it let synth's grabbed look-alike in (docs/refine.md).
   double prior_weight = 0.5;
 
   nlohmann::json ToJson() const;
