@@ -5,12 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 #include "al/core/error.hpp"
 #include "al/core/memory_limit.hpp"
 #include "al/core/timer.hpp"
 #include "al/graph/candidates.hpp"
+#include "al/graph/disjoint_sets.hpp"
 #include "al/graph/knn.hpp"
 #include "al/graph/prior.hpp"
 
@@ -31,11 +31,6 @@ double Median(std::vector<double> v) {
   const double hi = v[h];
   const double lo = *std::max_element(v.begin(), v.begin() + h);
   return 0.5 * (lo + hi);
-}
-
-std::int32_t Find(std::vector<std::int32_t>& parent, std::int32_t x) {
-  while (parent[x] != x) x = parent[x] = parent[parent[x]];
-  return x;
 }
 
 // Mean of the L2-normalised feature rows of the active Gaussians: a strided sample of at most
@@ -208,28 +203,18 @@ double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t
 }
 
 // σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.
-void SpatialScale(const KnnResult& knn, const std::vector<float>& node_xyz, const SceneNodes& s,
-                  const RefineProblem& P, const GraphOptions& options, GraphStats& st) {
+void SpatialScale(double median_edge, const SceneNodes& s, const RefineProblem& P, const GraphOptions& options,
+                  GraphStats& st) {
   if (!options.spatial) {
     st.sigma_x_source = "off";
     return;
   }
-  const std::size_t V = P.node_ids.size();
-  const int K = knn.k;
-  std::vector<double> d;
-  d.reserve(V * K);
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v < 0) continue;
-      const double x = std::sqrt(SquaredDistance(node_xyz, u, v));
-      if (x > 0) d.push_back(x);
-    }
-  if (!d.empty()) {
-    st.sigma_x = Median(std::move(d));
+  if (median_edge > 0) {
+    st.sigma_x = median_edge;
     st.sigma_x_source = "median_knn_distance";
     return;
   }
+  const std::size_t V = P.node_ids.size();
   std::vector<double> r(V);
   for (std::size_t v = 0; v < V; ++v) r[v] = s.radii[P.node_ids[v]];
   st.sigma_x = Median(std::move(r));
@@ -317,18 +302,16 @@ void GateAndWeigh(PairLists& pl, const RowMatXf& nf, const std::vector<std::uint
 // Step 5: connected components (singletons included) and isolated nodes.
 void CountComponents(const RefineProblem& P, GraphStats& st) {
   const std::size_t V = P.node_ids.size();
-  std::vector<std::int32_t> parent(V);
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets sets(V);
   std::vector<std::uint8_t> has_edge(V, 0);
   for (std::size_t u = 0; u < V; ++u)
     for (auto e = P.first_edge[u]; e < P.first_edge[u + 1]; ++e) {
       const std::int32_t v = P.adj_vertices[e];
       has_edge[u] = has_edge[v] = 1;
-      const std::int32_t a = Find(parent, static_cast<std::int32_t>(u)), b = Find(parent, v);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+      sets.Unite(static_cast<std::int32_t>(u), v);
     }
   for (std::size_t v = 0; v < V; ++v) {
-    st.components += Find(parent, static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v);
+    st.components += sets.Find(static_cast<std::int32_t>(v)) == static_cast<std::int32_t>(v);
     st.isolated += !has_edge[v];
   }
 }
@@ -354,6 +337,20 @@ void AddGraphWarnings(GraphResult& out) {
 }
 
 }  // namespace
+
+double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) {
+  const std::size_t V = knn.k > 0 ? knn.neighbors.size() / std::size_t(knn.k) : 0;
+  std::vector<double> d;
+  d.reserve(knn.neighbors.size());
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < knn.k; ++c) {
+      const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
+      if (v < 0) continue;
+      const double x = std::sqrt(SquaredDistance(xyz, u, std::size_t(v)));
+      if (x > 0) d.push_back(x);
+    }
+  return d.empty() ? 0.0 : Median(std::move(d));
+}
 
 // Candidates → kNN → features and prior → gate and weights → components (SPEC §4).
 GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
@@ -385,13 +382,14 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.seconds_knn = stage.Seconds();
   stage.Reset();
   const RowMatXf nf = NodeFeatures(features, P.node_ids, nodes.active, options, out.zero_norm, st);
+  const double median_edge = MedianKnnEdgeLength(knn, node_xyz);  // σ_x and the removed parts' links
   st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
   if (options.normalize_features) {
-    st.second_object = FindSecondObject(knn, P.y_remove, features, P.node_ids);
+    st.second_object = FindSecondObject(knn, median_edge, P.y_remove, features, P.node_ids);
     const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
     P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior, !(guard && st.second_object.Found()));
   }
-  SpatialScale(knn, node_xyz, nodes, P, options, st);
+  SpatialScale(median_edge, nodes, P, options, st);
   PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());
   GateAndWeigh(pairs, nf, out.zero_norm, node_xyz, gate, options, P, st);
   CountComponents(P, st);

@@ -4,46 +4,29 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
+
+#include "al/graph/disjoint_sets.hpp"
 
 namespace al {
 namespace {
 
-std::int32_t Root(std::vector<std::int32_t>& parent, std::int32_t x) {
-  while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
-  return x;
-}
-
-// The longest kNN edge that still links two removed candidates into one part.
-double LinkLength(const KnnResult& knn) {
-  std::vector<float> d;
-  d.reserve(knn.sq_dist.size());
-  for (std::size_t i = 0; i < knn.sq_dist.size(); ++i)
-    if (knn.neighbors[i] >= 0) d.push_back(knn.sq_dist[i]);
-  if (d.empty()) return 0.0;
-  std::nth_element(d.begin(), d.begin() + std::ptrdiff_t(d.size() / 2), d.end());
-  return kPartLinkScale * std::sqrt(double(d[d.size() / 2]));
-}
-
 // Part root of every removed node (−1 for kept ones), over short kNN edges between removed nodes.
-std::vector<std::int32_t> RemovedParts(const KnnResult& knn, const std::vector<double>& removed) {
+std::vector<std::int32_t> RemovedParts(const KnnResult& knn, double median_edge, const std::vector<double>& removed) {
   const std::size_t V = removed.size();
-  const double link = LinkLength(knn), link_sq = link * link;
-  std::vector<std::int32_t> parent(V);
-  std::iota(parent.begin(), parent.end(), 0);
+  const double link = kPartLinkScale * median_edge, link_sq = link * link;
+  DisjointSets sets(V);
   for (std::size_t u = 0; u < V; ++u) {
     if (removed[u] < 0.5) continue;
     for (int c = 0; c < knn.k; ++c) {
       const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
       if (v < 0 || removed[std::size_t(v)] < 0.5 || knn.sq_dist[u * std::size_t(knn.k) + std::size_t(c)] > link_sq)
         continue;
-      const std::int32_t a = Root(parent, std::int32_t(u)), b = Root(parent, v);
-      if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
+      sets.Unite(std::int32_t(u), v);
     }
   }
   std::vector<std::int32_t> part(V, -1);
   for (std::size_t u = 0; u < V; ++u)
-    if (removed[u] >= 0.5) part[u] = Root(parent, std::int32_t(u));
+    if (removed[u] >= 0.5) part[u] = sets.Find(std::int32_t(u));
   return part;
 }
 
@@ -67,10 +50,10 @@ double Cosine(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
 
 }  // namespace
 
-SecondObject FindSecondObject(const KnnResult& knn, const std::vector<double>& removed, Eigen::Ref<const RowMatXf> features,
-                              const std::vector<std::int64_t>& node_ids) {
+SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const std::vector<double>& removed,
+                              Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids) {
   SecondObject out;
-  const std::vector<std::int32_t> part = RemovedParts(knn, removed);
+  const std::vector<std::int32_t> part = RemovedParts(knn, median_edge, removed);
   std::vector<std::size_t> size(part.size(), 0);
   std::size_t n_removed = 0;
   for (std::int32_t p : part)

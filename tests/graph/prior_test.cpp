@@ -38,13 +38,19 @@ double MeanY(const Rows& r, const std::vector<double>& y, int kind, bool removed
   return n ? s / n : -1.0;
 }
 
-TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
+// FGS-like: the method removed 1000 object Gaussians and missed 300 of the same object;
+// 2000 background Gaussians kept.
+Rows FgsLikeRows() {
   std::mt19937 rng(3);
   Rows r;
-  // FGS-like: the method removed 1000 object Gaussians and missed 300 of the same object.
   for (int i = 0; i < 1000; ++i) AddRow(r, rng, 0, 0.15, true, 1);
   for (int i = 0; i < 300; ++i) AddRow(r, rng, 0, 0.15, false, 1);
   for (int i = 0; i < 2000; ++i) AddRow(r, rng, 1 + i % 3, 0.3, false, 0);
+  return r;
+}
+
+TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
+  const Rows r = FgsLikeRows();
   al::PriorStats st;
   al::PriorOptions on;
   on.prototype_credit = on.wide_credit = al::PriorSwitch::kOn;
@@ -73,11 +79,7 @@ TEST(FeaturePrior, MissesOfTheObjectGetCreditBackgroundNone) {
 // A second object in the removed set (al/graph/removed_parts.hpp): no kept Gaussian gets credit,
 // the removed labels are untouched by that choice.
 TEST(FeaturePrior, NoKeptCreditWhenTheRemovedSetHoldsASecondObject) {
-  std::mt19937 rng(3);
-  Rows r;
-  for (int i = 0; i < 1000; ++i) AddRow(r, rng, 0, 0.15, true, 1);
-  for (int i = 0; i < 300; ++i) AddRow(r, rng, 0, 0.15, false, 1);
-  for (int i = 0; i < 2000; ++i) AddRow(r, rng, 1 + i % 3, 0.3, false, 0);
+  const Rows r = FgsLikeRows();
   al::PriorOptions on;
   on.prototype_credit = on.wide_credit = al::PriorSwitch::kOn;
   al::PriorStats with, without;

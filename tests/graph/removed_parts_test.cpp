@@ -5,6 +5,7 @@
 
 #include <random>
 
+#include "al/graph/graph.hpp"
 #include "al/graph/removed_parts.hpp"
 
 namespace {
@@ -39,7 +40,8 @@ void AddBlob(Layout& l, std::mt19937& rng, int n, float x0, int axis, bool remov
 al::SecondObject Find(const Layout& l) {
   al::KnnOptions o;
   o.k = 10;
-  return al::FindSecondObject(al::KnnAmongPoints(l.xyz, o), l.removed, l.f, l.ids);
+  const al::KnnResult knn = al::KnnAmongPoints(l.xyz, o);
+  return al::FindSecondObject(knn, al::MedianKnnEdgeLength(knn, l.xyz), l.removed, l.f, l.ids);
 }
 
 TEST(SecondObject, TwoSeparateObjectsWithDifferentFeatures) {

@@ -106,6 +106,10 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
                              const std::vector<bool>& removed, const GraphOptions& options = {},
                              const std::vector<std::uint8_t>* extra_seeds = nullptr);
 
+// Median non-zero length of the kNN edges among the points xyz (n×3 row-major); 0 when every edge
+// has length 0 or there is none. The graph's σ_x, and the link length of the removed set's parts.
+double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz);
+
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
 RowMatXf ColourFeatures(const Scene& scene);
 

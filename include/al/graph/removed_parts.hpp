@@ -8,7 +8,7 @@
 // cut still adds what the graph connects, and removed Gaussians can still be doubted.
 //
 // "A second object": a spatially separate part of the removed candidates (connected over kNN
-// edges no longer than kPartLinkScale × the median kNN edge) that holds at least kSecondShare of
+// edges no longer than kPartLinkScale × the median non-zero kNN edge) that holds at least kSecondShare of
 // them, besides the largest part, and whose mean unit feature has a cosine below kSameObjectCosine
 // to the largest part's. On the tuning half the parts an object's own removal splits into have
 // cosines ≥ 0.966 and hold ≤ 11 % of the removed set (gen, 4 styles × 20 scenes × 3 methods); the
@@ -37,9 +37,10 @@ struct SecondObject {
   nlohmann::json ToJson() const;  // null when none was found
 };
 
-// knn: among the candidate nodes; removed: per node (≥ 1/2 = removed); features: the scene's raw
-// feature rows (uncentred); node_ids: node → scene row. Deterministic.
-SecondObject FindSecondObject(const KnnResult& knn, const std::vector<double>& removed,
+// knn: among the candidate nodes; median_edge: their median non-zero kNN edge length
+// (MedianKnnEdgeLength, al/graph/graph.hpp; also σ_x); removed: per node (≥ 1/2 = removed);
+// features: the scene's raw feature rows (uncentred); node_ids: node → scene row. Deterministic.
+SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const std::vector<double>& removed,
                               Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids);
 
 }  // namespace al
