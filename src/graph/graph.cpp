@@ -277,7 +277,7 @@ void GateAndWeigh(PairLists& pl, const RowMatXf& nf, const std::vector<std::uint
         df2 += t * t;
       }
       if (!(std::sqrt(df2) <= gate)) continue;
-      double w = options.lambda * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
+      double w = options.Lambda() * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
       if (options.spatial && sx2 > 0) w *= std::exp(-SquaredDistance(node_xyz, u, v) / sx2);
       pl.other[w_at] = v;
       cand_w[w_at] = w;
@@ -363,6 +363,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.num_gaussians = scene.size();
   st.feature_dim = static_cast<std::size_t>(features.cols());
   st.gate_distance = gate;
+  st.lambda = options.Lambda();
   Timer stage;
   const SceneNodes nodes = ActiveGaussians(scene, features, removed, options, extra_seeds);
   out.excluded.resize(scene.size());
@@ -418,6 +419,7 @@ nlohmann::json GraphStats::ToJson() const {
           {"sigma_f", s.gate_distance},
           {"sigma_x", s.sigma_x},
           {"sigma_x_source", s.sigma_x_source},
+          {"lambda", s.lambda},
           {"features_centred", s.centred},
           {"features_common_component", s.common_component},
           {"prior", s.prior.ToJson()},

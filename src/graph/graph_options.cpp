@@ -8,25 +8,42 @@ namespace {
 const std::vector<std::pair<std::string, PriorSwitch>> kPriorSwitchNames = {
     {"auto", PriorSwitch::kAuto}, {"on", PriorSwitch::kOn}, {"off", PriorSwitch::kOff}};
 
-// auto or a number in [0, 1] (al/graph/prior.hpp: unset = the preset's weight).
-OptionField<GraphOptions> PriorWeightField() {
-  const NumericRange range = NumericRange::Closed(0, 1);
+// A field that is "auto" or a number in range. slot(o) is the optional it lives in (a generic
+// lambda, so it serves const and mutable options alike); unset = auto, resolved by the refine
+// stages from the --method preset, direct_default for a direct caller.
+template <typename Slot>
+OptionField<GraphOptions> AutoRealField(const std::string& name, const NumericRange& range, std::string help,
+                                        Slot slot, double direct_default) {
   // The range as --help and the out-of-range error spell it ("... = 1.5 must be auto|[0, 1]").
-  OptionField<GraphOptions> f{"prior_weight", OptionType::kText, "auto|" + range.Text(),
-                              "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
-                              "alone; auto: 0.55 for --method gg and sags, else 0.5)",
-                              false, {}, {}, {}};
-  f.get = [](const GraphOptions& o) {
-    return o.prior.weight ? nlohmann::json(*o.prior.weight) : nlohmann::json("auto");
+  OptionField<GraphOptions> f{name, OptionType::kText, "auto|" + range.Text(), std::move(help), false, {}, {}, {}};
+  f.get = [slot](const GraphOptions& o) {
+    const std::optional<double>& v = slot(o);
+    return v ? nlohmann::json(*v) : nlohmann::json("auto");
   };
-  f.set = [](GraphOptions& o, const nlohmann::json& v) {
+  f.set = [slot, name, range](GraphOptions& o, const nlohmann::json& v) {
     const std::string text = v.get<std::string>();
-    if (text == "auto") return void(o.prior.weight.reset());
-    o.prior.weight = ParseOptionText(OptionType::kReal, text, "graph option 'prior_weight' (auto|[0, 1])")
-                         .get<double>();
+    if (text == "auto") return void(slot(o).reset());
+    slot(o) = ParseOptionText(OptionType::kReal, text, "graph option '" + name + "' (auto|" + range.Text() + ")")
+                  .get<double>();
   };
-  f.in_range = [range](const GraphOptions& o) { return range.Contains(o.prior.Weight()); };
+  f.in_range = [slot, range, direct_default](const GraphOptions& o) {
+    return range.Contains(slot(o).value_or(direct_default));
+  };
   return f;
+}
+
+OptionField<GraphOptions> LambdaField() {
+  return AutoRealField(
+      "lambda", NumericRange::AtLeast(0),
+      "edge weight scale (auto: 1.5 for --method gg with solver bk, else 1)",
+      [](auto& o) -> auto& { return o.lambda; }, 1.0);
+}
+
+OptionField<GraphOptions> PriorWeightField() {
+  return AutoRealField("prior_weight", NumericRange::Closed(0, 1),
+                       "feature prior in the unary: y = (1 - w) mask + w q, w in [0, 1] (0 = the mask "
+                       "alone; auto: 0.55 for --method gg and sags, else 0.5)",
+                       [](auto& o) -> auto& { return o.prior.weight; }, 0.5);
 }
 
 }  // namespace
@@ -41,7 +58,7 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                 "semantic gate: a distance >= 0 of unit features, or in cosine mode a cosine in [-1, 1]")
           .Choice("delta_mode", &O::delta_mode, {{"distance", DeltaMode::kDistance}, {"cosine", DeltaMode::kCosine}},
                   "distance: delta bounds |f_u - f_v|; cosine: delta is a cosine threshold")
-          .Real("lambda", &O::lambda, R::AtLeast(0), "edge weight scale")
+          .Custom(LambdaField())
           .Flag("spatial", &O::spatial, "spatial weight factor exp(-d_x^2 / sigma_x^2)")
           .Int("hops", &O::hops, R::Closed(0, 100), "candidate growth repetitions")
           .Real("radius_scale", &O::radius_scale, R::Above(0), "multiplier of r_i = max exp(scale)")

@@ -32,7 +32,7 @@ OutputSetOptions CompareExportSetOptions(const RefineOptions& o) {
 void ExportAll(const RefineOptions& o, const GraphResult& graph, const CompareResult& r) {
   OutputSet set(o.export_problem_dir, CompareExportSetOptions(o));
   const fs::path dir = set.dir();
-  ExportProblem(graph.problem, nullptr, dir.string(), o.graph.lambda);
+  ExportProblem(graph.problem, nullptr, dir.string(), graph.stats.lambda);
   nlohmann::json sol = nlohmann::json::array();
   for (std::size_t i = 0; i < r.rows.size(); ++i) {
     const std::string file = "p_" + r.runs[i].id + ".npy";

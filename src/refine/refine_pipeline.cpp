@@ -58,7 +58,8 @@ void WriteRefineOutputs(const RefineOptions& o, const RefineInputs& in, const Gr
   std::vector<bool> keep(solved.refined.size());
   for (std::size_t i = 0; i < keep.size(); ++i) keep[i] = !solved.refined[i];
   WritePly((out / "remaining.ply").string(), *in.scene, keep);
-  if (!o.export_problem_dir.empty()) ExportProblemSet(o, graph.problem, solved.empty_graph ? nullptr : &solved.p);
+  if (!o.export_problem_dir.empty())
+    ExportProblemSet(o, graph.problem, graph.stats.lambda, solved.empty_graph ? nullptr : &solved.p);
 }
 
 // The graph and decision fields come from their options tables (the same names as the flags).
@@ -180,11 +181,12 @@ OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
   return so;
 }
 
-void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, const std::vector<double>* p) {
+void ExportProblemSet(const RefineOptions& o, const RefineProblem& problem, double lambda,
+                      const std::vector<double>* p) {
   OutputSet set(o.export_problem_dir, ExportSetOptions(o));
-  ExportProblem(problem, p, set.dir().string(), o.graph.lambda);
+  ExportProblem(problem, p, set.dir().string(), lambda);
   nlohmann::json report = NewReport("export-problem");
-  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", o.graph.lambda}};
+  report["params"] = {{"scene", o.scene}, {"removed", o.removed}, {"lambda", lambda}};
   report["counts"] = {{"nodes", problem.num_nodes()}, {"edges", problem.num_edges()}};
   set.Commit(report);
 }

@@ -355,9 +355,11 @@ GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& option
   return BuildGraphGrown(inputs, options, nullptr);
 }
 
-GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
+GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& graph_options, Solver& solver,
                          const DecisionOptions& decision) {
-  if (options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
+  if (graph_options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
+  GraphOptions options = graph_options;
+  if (!options.lambda) options.lambda = inputs.preset.LambdaFor(solver.name());
   const std::vector<bool>& removed = inputs.removal.removed;
   std::vector<std::uint8_t> grown(removed.size(), 0);  // everything added so far
   GrownSolve r;

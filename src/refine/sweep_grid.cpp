@@ -116,7 +116,7 @@ std::vector<SweepPoint> EnumeratePoints(const SweepGrid& g) {
     for (double d : g.delta)
       for (int h : g.hops)
         for (double r : g.radius_scale)
-          for (double l : g.lambda)
+          for (const std::optional<double>& l : g.lambda)
             for (const auto& s : g.solver)
               for (const auto& t : g.threshold)
                 for (double m : g.segment_share) points.push_back({k, d, h, r, l, s, t, m});
@@ -129,7 +129,7 @@ bool SameGraph(const SweepPoint& a, const SweepPoint& b) {
 
 std::string PointId(const std::string& scene, const SweepPoint& p) {
   return scene + "|k=" + std::to_string(p.k) + "|delta=" + Num(p.delta) + "|hops=" + std::to_string(p.hops) +
-         "|radius_scale=" + Num(p.radius_scale) + "|lambda=" + Num(p.lambda) + "|solver=" + p.solver +
+         "|radius_scale=" + Num(p.radius_scale) + "|lambda=" + (p.lambda ? Num(*p.lambda) : "auto") + "|solver=" + p.solver +
          "|threshold=" + p.threshold + "|segment_share=" + Num(p.segment_share);
 }
 

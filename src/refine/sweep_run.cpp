@@ -22,9 +22,10 @@ namespace {
 namespace fs = std::filesystem;
 
 // Graph statistics of a record: GraphStats::ToJson without its timings (those go to "seconds").
-nlohmann::json GraphRecord(const GraphStats& stats) {
+nlohmann::json GraphRecord(const GraphStats& stats, double lambda) {
   nlohmann::json g = stats.ToJson();
   g.erase("seconds");
+  g["lambda"] = lambda;  // the graph is built at λ = 1 and rescaled per point
   return g;
 }
 
@@ -160,8 +161,10 @@ class PointRunner {
     go.delta = p.delta;
     go.hops = p.hops;
     go.radius_scale = p.radius_scale;
-    const bool reused = PrepareGraph(p, go);
-    go.lambda = p.lambda;
+    // λ auto: the scene's preset decides per solver, as a refine run with these flags would.
+    const double lambda = p.lambda ? *p.lambda : inputs_->preset.LambdaFor(p.solver);
+    const bool reused = PrepareGraph(p, lambda, go);
+    go.lambda = lambda;
     DecisionOptions decision = sc.options.decision;
     decision.rule = ParseDecisionRule(p.threshold);
     decision.min_segment_share = p.segment_share;
@@ -208,7 +211,7 @@ class PointRunner {
   }
 
   // Builds the graph of p unless the current one is p's (returns true: reused), then applies λ.
-  bool PrepareGraph(const SweepPoint& p, GraphOptions go) {
+  bool PrepareGraph(const SweepPoint& p, double lambda, GraphOptions go) {
     bool reused = true;
     if (!graph_ || !SameGraph(*graph_point_, p)) {
       graph_.reset();
@@ -221,12 +224,12 @@ class PointRunner {
       ++graphs_built_;
       reused = false;
     }
-    if (applied_lambda_ != p.lambda) {
+    if (applied_lambda_ != lambda) {
       // λ multiplies every weight (SPEC §4.6): rescaling equals a rebuild up to the rounding of one
       // product (bit-identical for powers of two).
       auto& w = graph_->problem.edge_weights;
-      for (std::size_t e = 0; e < w.size(); ++e) w[e] = p.lambda == 1.0 ? unit_weights_[e] : unit_weights_[e] * p.lambda;
-      applied_lambda_ = p.lambda;
+      for (std::size_t e = 0; e < w.size(); ++e) w[e] = lambda == 1.0 ? unit_weights_[e] : unit_weights_[e] * lambda;
+      applied_lambda_ = lambda;
     }
     return reused;
   }
@@ -240,14 +243,14 @@ class PointRunner {
         {"scene", sc.name},
         {"params",
          {{"k", p.k}, {"delta", p.delta}, {"hops", p.hops}, {"radius_scale", p.radius_scale},
-          {"lambda", p.lambda}, {"solver", p.solver}, {"threshold", p.threshold},
+          {"lambda", go.Lambda()}, {"lambda_auto", !p.lambda}, {"solver", p.solver}, {"threshold", p.threshold},
           {"segment_share", p.segment_share},
           {"delta_mode", go.delta_mode == DeltaMode::kCosine ? "cosine" : "distance"},
           {"spatial", go.spatial}, {"knn_checks", go.knn_checks}, {"kl_smoothing", go.kl_smoothing},
           {"restore", solved.decision.value("restore", decision.Restores())},  // as the preset resolved it
           {"method", sc.options.method}}},
         {"status", solved.empty_graph ? "empty_graph" : "ok"},
-        {"graph", GraphRecord(graph_->stats)},
+        {"graph", GraphRecord(graph_->stats, go.Lambda())},
         {"solver", SolverRecord(solved.solver, solver_timings)},
         {"decision", solved.decision},
         {"counts",

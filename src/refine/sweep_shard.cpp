@@ -108,8 +108,10 @@ std::size_t Count(const nlohmann::json& j, const char* key, const std::string& w
 }  // namespace
 
 nlohmann::json GridToJson(const SweepGrid& g) {
+  nlohmann::json lambda = nlohmann::json::array();  // "auto" for an unset λ
+  for (const auto& l : g.lambda) lambda.push_back(l ? nlohmann::json(*l) : nlohmann::json("auto"));
   return {{"k", g.k}, {"delta", g.delta}, {"hops", g.hops}, {"radius_scale", g.radius_scale},
-          {"lambda", g.lambda}, {"solver", g.solver}, {"threshold", g.threshold},
+          {"lambda", lambda}, {"solver", g.solver}, {"threshold", g.threshold},
           {"segment_share", g.segment_share}};
 }
 
@@ -120,7 +122,8 @@ SweepGrid GridFromJson(const nlohmann::json& j) {
     j.at("delta").get_to(g.delta);
     j.at("hops").get_to(g.hops);
     j.at("radius_scale").get_to(g.radius_scale);
-    j.at("lambda").get_to(g.lambda);
+    for (const auto& l : j.at("lambda"))
+      g.lambda.push_back(l == "auto" ? std::nullopt : std::optional<double>(l.get<double>()));
     j.at("solver").get_to(g.solver);
     j.at("threshold").get_to(g.threshold);
     j.at("segment_share").get_to(g.segment_share);

@@ -105,6 +105,16 @@ done
 [ "$(jget "$T/ggm/report.json" "['params']['removed_is']")" = removed ] || fail "gg mask removed_is"
 [ "$(jget "$T/ggm/report.json" "['counts']['removed_input']")" = "$in_n" ] || fail "gg mask count"
 grep -q "features semantic_" "$T/ggm.err" || fail "gg without obj_dc_ does not name its features"
+# --lambda auto: gg with bk weighs the edges 1.5 (the preset's), with cp 1; a number wins.
+[ "$(jget "$T/ggm/report.json" "['params']['lambda']")" = auto ] || fail "gg lambda param"
+[ "$(jget "$T/ggm/report.json" "['graph']['lambda']")" = 1.5 ] || fail "gg bk lambda auto"
+[ "$(jget "$T/ggm/report.json" "['params']['preset']['bk_lambda']")" = 1.5 ] || fail "gg preset bk_lambda"
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method gg --solver cp --out "$T/ggcp" \
+  --quiet >/dev/null 2>&1 || fail "gg cp run"
+[ "$(jget "$T/ggcp/report.json" "['graph']['lambda']")" = 1.0 ] || fail "gg cp lambda auto"
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method gg --solver bk --lambda 0.75 \
+  --out "$T/ggl" --quiet >/dev/null 2>&1 || fail "gg --lambda run"
+[ "$(jget "$T/ggl/report.json" "['graph']['lambda']")" = 0.75 ] || fail "explicit lambda not applied"
 # More than half the scene removed: a warning on stderr and in the report.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --removed-is remaining --solver bk --k 1 \
   --delta 0 --out "$T/most" --quiet >/dev/null 2>"$T/most.err" || true

@@ -54,3 +54,24 @@ set +e
 grep -q "nope.npy" "$T/bad.err" || { echo "FAIL: error does not name the file"; exit 1; }
 [ ! -s "$T/bad/results.jsonl" ] || { echo "FAIL: points ran despite bad input"; exit 1; }
 echo "bad manifest ok"
+set -e
+# λ auto in a sweep resolves per scene and solver as refine would (gg with bk: 1.5, cp: 1; the
+# generic preset: 1); a λ the grid names is used as given.
+cat > "$T/gg.json" <<'JSON'
+[{"name": "gg", "scene": "b/scene.ply", "removed": "b/removed_gg.npy", "method": "gg"},
+ {"name": "plain", "scene": "b/scene.ply", "removed": "b/removed_gg.npy"}]
+JSON
+"$BIN" sweep --manifest "$T/gg.json" --grid "solver=bk,cp;lambda=auto,0.5" --out "$T/gg" >/dev/null 2>&1
+python3 - "$T/gg/results.jsonl" <<'PY'
+import json, sys
+recs = {(r['scene'], r['params']['solver'], r['params']['lambda_auto']): r for r in map(json.loads, open(sys.argv[1]))}
+want = {('gg', 'bk', True): 1.5, ('gg', 'cp', True): 1.0, ('plain', 'bk', True): 1.0, ('plain', 'cp', True): 1.0,
+        ('gg', 'bk', False): 0.5, ('gg', 'cp', False): 0.5, ('plain', 'bk', False): 0.5, ('plain', 'cp', False): 0.5}
+if set(recs) != set(want): print('FAIL: records', sorted(recs)); sys.exit(1)
+for k, lam in want.items():
+    r = recs[k]
+    if r["params"]["lambda"] != lam or r["graph"]["lambda"] != lam:
+        print('FAIL: lambda of', k, r['params']['lambda'], 'want', lam); sys.exit(1)
+    if ('lambda=auto' in r['id']) != k[2]: print('FAIL: id', r['id']); sys.exit(1)
+print('sweep lambda auto ok')
+PY

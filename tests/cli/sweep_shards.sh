@@ -78,11 +78,13 @@ r = full[0]
 for key in ('params', 'graph', 'solver', 'decision', 'counts', 'gt', 'seconds', 'status'):
     if key not in r: fail('record lacks %s' % key)
 if set(r['params']) < {'k', 'delta', 'lambda', 'solver', 'hops', 'threshold'}: fail('params %s' % r['params'])
-# lambda only rescales: same graph statistics for the two lambdas of a (k, delta)
+# lambda only rescales: same graph statistics for the two lambdas of a (k, delta), but the
+# applied scale, which the graph record names
 g = {}
 for r in full:
     key = (r['params']['k'], r['params']['delta'])
-    g.setdefault(key, set()).add(json.dumps(r['graph'], sort_keys=True))
+    if r['graph']['lambda'] != r['params']['lambda']: fail('graph lambda %s' % r['graph']['lambda'])
+    g.setdefault(key, set()).add(json.dumps({k: v for k, v in r['graph'].items() if k != 'lambda'}, sort_keys=True))
 if any(len(v) != 1 for v in g.values()): fail('graph statistics differ within a (k, delta) setting')
 print('sweep shards ok: 16 points, shards %s, merged == whole run, resume ok' % sizes)
 PY

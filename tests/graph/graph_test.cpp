@@ -327,4 +327,27 @@ TEST(Graph, PriorWeightTakesAutoOrAWeight) {
   EXPECT_THROW(table.SetText(o, "prior_weight", "half"), al::Error);
 }
 
+// --lambda: auto (the preset's for the solver; a direct caller gets 1) or a number >= 0.
+TEST(Graph, LambdaTakesAutoOrAScale) {
+  const auto& table = al::GraphOptions::Table();
+  al::GraphOptions o;
+  EXPECT_FALSE(o.lambda.has_value());
+  EXPECT_EQ(o.Lambda(), 1.0);
+  EXPECT_EQ(table.ToJson(o)["lambda"], "auto");
+  table.SetText(o, "lambda", "2");
+  EXPECT_EQ(o.Lambda(), 2.0);
+  EXPECT_EQ(table.ToJson(o)["lambda"], 2.0);
+  table.SetText(o, "lambda", "auto");
+  EXPECT_FALSE(o.lambda.has_value());
+  table.SetText(o, "lambda", "-1");
+  try {
+    o.Check();
+    ADD_FAILURE() << "-1 accepted";
+  } catch (const al::Error& e) {
+    EXPECT_NE(std::string(e.what()).find("'lambda' = -1 must be auto|>= 0"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(table.SetText(o, "lambda", "heavy"), al::Error);
+  EXPECT_THROW(table.SetText(o, "lambda", "inf"), al::Error);
+}
+
 }  // namespace

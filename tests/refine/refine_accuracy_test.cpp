@@ -150,6 +150,35 @@ TEST(RefineAccuracy, PriorWeightFollowsThePreset) {
   EXPECT_DOUBLE_EQ(weight({.prior_weight = 0.55}, 0.25), 0.25);
 }
 
+// --lambda auto: the preset's λ for the solver (gg with bk: 1.5; cut pursuit and the other presets:
+// 1), applied to the edge weights (the graph reports it); a number wins. λ scales every weight.
+TEST(RefineAccuracy, LambdaFollowsThePresetAndTheSolver) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in = InputsOf(s, s.removed.at("gg"));
+  auto solve = [&](const char* method, const char* solver_name, std::optional<double> lambda) {
+    in.preset = al::MethodPresetFor(method);
+    al::GraphOptions o;
+    o.grow_rounds = 0;
+    o.lambda = lambda;
+    auto solver = al::MakeSolver(solver_name);
+    return al::BuildAndSolve(in, o, *solver, al::DecisionOptions{}).graph;
+  };
+  EXPECT_DOUBLE_EQ(al::MethodPresetFor("gg").LambdaFor("bk"), 1.5);
+  EXPECT_DOUBLE_EQ(al::MethodPresetFor("gg").LambdaFor("cp"), 1.0);
+  EXPECT_DOUBLE_EQ(al::MethodPresetFor("gg").LambdaFor("exact"), 1.0);
+  EXPECT_DOUBLE_EQ(al::MethodPresetFor("fgs").LambdaFor("bk"), 1.0);
+  const al::GraphResult gg_bk = solve("gg", "bk", std::nullopt), gg_cp = solve("gg", "cp", std::nullopt);
+  const al::GraphResult fgs_bk = solve("generic", "bk", std::nullopt), gg_bk_1 = solve("gg", "bk", 1.0);
+  EXPECT_DOUBLE_EQ(gg_bk.stats.lambda, 1.5);
+  EXPECT_DOUBLE_EQ(gg_cp.stats.lambda, 1.0);
+  EXPECT_DOUBLE_EQ(fgs_bk.stats.lambda, 1.0);
+  EXPECT_DOUBLE_EQ(gg_bk_1.stats.lambda, 1.0);
+  ASSERT_EQ(gg_bk.problem.edge_weights.size(), gg_bk_1.problem.edge_weights.size());
+  ASSERT_FALSE(gg_bk.problem.edge_weights.empty());
+  for (std::size_t e = 0; e < gg_bk.problem.edge_weights.size(); e += 97)
+    EXPECT_NEAR(gg_bk.problem.edge_weights[e], 1.5 * gg_bk_1.problem.edge_weights[e], 1e-12);
+}
+
 // --centre auto: the fgs preset's "shared" leaves a synth field (no strong shared component)
 // uncentred; without a preset, or with another one, auto centres; an explicit choice wins.
 TEST(RefineAccuracy, CentringFollowsThePreset) {

@@ -30,7 +30,7 @@ TEST(SweepGrid, ParsesAxesAndFillsTheRestFromTheBase) {
   const SweepGrid g = ParseSweepGrid("k=4,6,10;delta=0.8,1.0;lambda=0.5,1,2;solver=bk,cp", Base());
   EXPECT_EQ(g.k, (std::vector<int>{4, 6, 10}));
   EXPECT_EQ(g.delta, (std::vector<double>{0.8, 1.0}));
-  EXPECT_EQ(g.lambda, (std::vector<double>{0.5, 1, 2}));
+  EXPECT_EQ(g.lambda, (std::vector<std::optional<double>>{0.5, 1, 2}));
   EXPECT_EQ(g.solver, (std::vector<std::string>{"bk", "cp"}));
   EXPECT_EQ(g.hops, (std::vector<int>{1}));
   EXPECT_EQ(g.threshold, (std::vector<std::string>{"0.5"}));
@@ -41,6 +41,11 @@ TEST(SweepGrid, ParsesAxesAndFillsTheRestFromTheBase) {
   EXPECT_EQ(d.solver, (std::vector<std::string>{"bk"}));
   EXPECT_EQ(d.segment_share, (std::vector<double>{0.0}));  // the base decision's (rule off)
   EXPECT_EQ(ParseSweepGrid("segment_share=0,0.5", Base()).size(), 2u);
+  // λ auto (the base's, unless the grid names it) stays auto in the grid: each scene's preset
+  // resolves it per solver; "auto" twice is one value.
+  EXPECT_EQ(d.lambda, (std::vector<std::optional<double>>{std::nullopt}));
+  EXPECT_EQ(ParseSweepGrid("lambda=auto,1.5,auto", Base()).lambda,
+            (std::vector<std::optional<double>>{std::nullopt, 1.5}));
 }
 
 TEST(SweepGrid, RejectsBadGrids) {

@@ -3,6 +3,7 @@
 // RefineProblem every solver takes.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -41,7 +42,11 @@ struct GraphOptions {
   int k = 10;                      // neighbours per node
   double delta = 0.8;              // semantic gate (see delta_mode)
   DeltaMode delta_mode = DeltaMode::kDistance;
-  double lambda = 1.0;             // edge weight scale (included in edge_weights)
+  // Edge weight scale (included in edge_weights). Unset = auto: the refine stages take the
+  // --method preset's value for the solver (MethodPreset::LambdaFor: 1.5 for gg with bk, else 1);
+  // a direct caller of BuildRefineGraph gets 1.
+  std::optional<double> lambda;
+  double Lambda() const { return lambda.value_or(1.0); }
   bool spatial = true;             // multiply weights by exp(−d_x²/σ_x²)
   int hops = 1;                    // candidate growth repetitions
   // [project] Rounds of candidate growth where the cut keeps adding (refine stages: after each
@@ -78,6 +83,7 @@ struct GraphStats {
   std::size_t knn_tie_retries = 0;
   std::size_t feature_dim = 0;
   double gate_distance = 0.0;           // distance bound actually applied (= σ_f)
+  double lambda = 0.0;                  // edge weight scale applied (--lambda auto resolved)
   bool centred = false;                 // features centred on the scene mean
   double common_component = 0.0;        // |mean of the scene's unit feature rows| (0: not computed)
   PriorStats prior;                     // the unary's feature prior (weight 0: off)

@@ -35,7 +35,14 @@ struct MethodPreset {
   // to the features' side (0.55; tuning half: gen gg-like +0.065 → +0.075, sags-like +0.016 →
   // +0.026); for FGS it let synth's grabbed look-alike in (docs/refine.md).
   double prior_weight = 0.5;
+  // --lambda auto with solver bk: GG's over-removal comes back in larger pieces when the edges
+  // weigh more (tuning half, bk: gen gg-like +0.0749 → +0.0759, synth gg +0.0093 → +0.0107).
+  // The cut-pursuit solvers keep 1: their KL data term balances the edges on another scale, and
+  // at 1.5 cp gained nothing and lowered two more tuning scenes (docs/refine.md).
+  double bk_lambda = 1.0;
 
+  // The λ of --lambda auto for a solver (al/solver.hpp names): bk_lambda for bk, else 1.
+  double LambdaFor(const std::string& solver) const;
   nlohmann::json ToJson() const;
 };
 

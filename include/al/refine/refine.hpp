@@ -90,8 +90,10 @@ RefineResult RunRefine(const RefineOptions& options);
 // of out_dir (inputs, planned names), and the run writing into set.dir() without committing.
 OutputSetOptions RefineOutputSetOptions(const RefineOptions& options);
 RefineResult RefineIntoSet(const RefineOptions& options, OutputSet& set);
-// Writes the solvers' problem (and p) into its own output set (--export-problem).
-void ExportProblemSet(const RefineOptions& options, const RefineProblem& problem, const std::vector<double>* p);
+// Writes the solvers' problem (and p) into its own output set (--export-problem); lambda: the
+// edge weight scale the problem was built with (GraphStats::lambda).
+void ExportProblemSet(const RefineOptions& options, const RefineProblem& problem, double lambda,
+                      const std::vector<double>* p);
 
 // The same refinement from memory: one code path with the file-based RunRefine after loading, so
 // both give identical masks for the same input. Writes the outputs only when options.out_dir is set.

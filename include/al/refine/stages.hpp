@@ -90,7 +90,8 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
 // Builds the graph and solves it. With options.grow_rounds > 0 the candidate set then also grows
 // one hop around every Gaussian the cut added, and the enlarged graph is solved again, until a
 // round adds fewer new Gaussians than 0.5 % of the removed count or the rounds run out (`capped`,
-// a warning). The observations always come from the input mask.
+// a warning). The observations always come from the input mask. An unset (auto) λ takes the
+// preset's value for this solver (MethodPreset::LambdaFor); graph.stats.lambda says which.
 struct GrownSolve {
   GraphResult graph;                  // the last graph solved
   SolveOutcome outcome;

@@ -28,7 +28,7 @@ struct SweepGrid {
   std::vector<double> delta;
   std::vector<int> hops;
   std::vector<double> radius_scale;
-  std::vector<double> lambda;
+  std::vector<std::optional<double>> lambda;  // unset = auto (the scene's preset, per solver)
   std::vector<std::string> solver;     // resolved names (al/solver.hpp)
   std::vector<std::string> threshold;  // decision rules, canonical ("0.5", "percentile:95")
   std::vector<double> segment_share;   // the decision's min_segment_share (0 = plain rule)
@@ -47,7 +47,7 @@ struct SweepPoint {
   double delta = 0.8;
   int hops = 1;
   double radius_scale = 1.0;
-  double lambda = 1.0;
+  std::optional<double> lambda;  // unset = auto: MethodPreset::LambdaFor(solver) of each scene
   std::string solver;
   std::string threshold = "0.5";
   double segment_share = 2.0 / 3.0;
