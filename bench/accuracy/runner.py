@@ -64,6 +64,8 @@ def _params_of(report):
     keep = ("k", "delta", "lambda", "restore", "feature_source", "hops")
     out = {k: p[k] for k in keep if k in p}
     g = report.get("graph", {})
+    if "lambda" in g:
+        out["lambda_applied"] = g["lambda"]  # params.lambda may say "auto"
     if "prior" in g:
         out["prior"] = g["prior"]
         out["rounds"] = g.get("rounds")

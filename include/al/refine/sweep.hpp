@@ -38,7 +38,8 @@ struct SweepGrid {
 // "k=4,6,10;delta=0.8,1.0;lambda=0.5,1,2;solver=bk,cp" (keys k, delta, hops, radius_scale,
 // lambda, solver, threshold, segment_share; values deduplicated in the given order). Each value is
 // parsed and range-checked by its options table (GraphOptions, DecisionOptions), like the CLI flag
-// of the same name. Throws al::Error (usage) on unknown keys, repeated keys, empty or invalid values.
+// of the same name ("lambda=auto" as --lambda auto). Throws al::Error (usage) on unknown keys,
+// repeated keys, empty or invalid values.
 SweepGrid ParseSweepGrid(const std::string& text, const RefineOptions& base);
 
 // One grid point (the axes of SweepGrid).
