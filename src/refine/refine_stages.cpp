@@ -355,18 +355,38 @@ GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& option
   return BuildGraphGrown(inputs, options, nullptr);
 }
 
+// λ auto = the preset's for this solver.
+GraphOptions WithLambdaFor(const RefineInputs& inputs, GraphOptions options, const Solver& solver) {
+  if (!options.lambda) options.lambda = inputs.preset.LambdaFor(solver.name());
+  return options;
+}
+
 GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& graph_options, Solver& solver,
                          const DecisionOptions& decision) {
   if (graph_options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
-  GraphOptions options = graph_options;
-  if (!options.lambda) options.lambda = inputs.preset.LambdaFor(solver.name());
+  const GraphOptions options = WithLambdaFor(inputs, graph_options, solver);
+  Timer t;
+  GraphResult first = BuildGraphGrown(inputs, options, nullptr);
+  const double first_seconds = t.Seconds();
+  GrownSolve r = SolveAndGrow(inputs, options, solver, decision, std::move(first));
+  r.graph_seconds += first_seconds;
+  return r;
+}
+
+GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_options, Solver& solver,
+                        const DecisionOptions& decision, GraphResult first) {
+  if (graph_options.grow_rounds < 0) throw Error("--grow-rounds must be >= 0", ExitCode::kUsage);
+  const GraphOptions options = WithLambdaFor(inputs, graph_options, solver);
   const std::vector<bool>& removed = inputs.removal.removed;
   std::vector<std::uint8_t> grown(removed.size(), 0);  // everything added so far
   GrownSolve r;
+  r.graph = std::move(first);
   for (int round = 0;; ++round) {
-    Timer t;
-    r.graph = BuildGraphGrown(inputs, options, round ? &grown : nullptr);
-    r.graph_seconds += t.Seconds();
+    if (round) {
+      Timer t;
+      r.graph = BuildGraphGrown(inputs, options, &grown);
+      r.graph_seconds += t.Seconds();
+    }
     r.rounds = round + 1;
     r.outcome = SolveAndDecide(inputs, r.graph, options, solver, decision);
     if (!r.outcome.empty_graph) r.solve_seconds += r.outcome.solver.value("seconds", 0.0);

@@ -102,6 +102,12 @@ struct GrownSolve {
 };
 GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
                          const DecisionOptions& decision);
+// The same from a first graph already built with these options (sweeps build it once for many
+// points and rescale its λ): solves it, then grows as BuildAndSolve does, the grown graphs built at
+// options' λ (auto resolved as there: it should be first's scale); graph_seconds counts the growth
+// rounds' builds only.
+GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
+                        const DecisionOptions& decision, GraphResult first);
 
 // {"object_id", "before": {...}, "after": {...}, "change": {...}} with precision/recall/F1/IoU by
 // count and opacity-weighted (SPEC §1 keys gt.before.f1, gt.after.f1, ...); "change" says what the
