@@ -15,9 +15,12 @@
 namespace al {
 namespace {
 
-// Jaccard similarity of two sorted index sets; two empty sets are identical (1).
+// Jaccard similarity of two sorted index sets. Two empty sets score 0, not 1: settings that change
+// nothing agree only because the cut found no boundary, and scoring them as a plateau made
+// --auto choose the do-nothing corner of the grid where most points change nothing (tuning half:
+// synth sags masks, raised 67 % → 89 % of scenes with bk; the other rows unchanged).
 double Jaccard(const std::vector<std::int64_t>& a, const std::vector<std::int64_t>& b) {
-  if (a.empty() && b.empty()) return 1.0;
+  if (a.empty() && b.empty()) return 0.0;
   std::size_t inter = 0;
   for (std::size_t i = 0, j = 0; i < a.size() && j < b.size();) {
     if (a[i] == b[j]) ++inter, ++i, ++j;

@@ -45,6 +45,9 @@ for run, criterion in (('stab', 'stability'), ('eval', 'eval'),
     if a['best_by_gt']['gt_f1'] != max(x['gt_f1'] for x in c): fail('%s: best_by_gt' % run)
     if criterion.startswith('stability'):
         if any(not (0 <= s <= 1) for s in scores): fail('stability scores outside [0, 1]: %s' % scores)
+        # A point that changes nothing has no boundary to be stable on: its Jaccard with any
+        # neighbour is 0 (two empty sets included), so its score is 0.
+        if any(x['added'] + x['restored'] == 0 and x['score'] != 0 for x in c): fail('do-nothing point scored > 0')
     if run == 'flagged' and not all(v['flags_float'] for v in c[0]['eval']['views']): fail('flagged: a view is trusted')
     if criterion == 'eval':
         flagged = {v['view'] for x in c for v in x['eval']['views'] if v['flags_float']}
@@ -61,6 +64,19 @@ for run, criterion in (('stab', 'stability'), ('eval', 'eval'),
             if e['views_evaluated'] != len(views) or e['views_evaluated'] < 1: fail('views evaluated')
     if os.path.exists(os.path.join(T, run, '.auto_eval')): fail('scratch folder left behind')
 print('auto ok: stability and eval criteria (flagged views excluded), chosen/runner-up consistent')
+PY
+# Gates so tight that half the grid has no edge: those points change nothing, and agreeing on
+# nothing is no plateau (before, their stability 1 chose one of them and refinement did nothing).
+"$BIN" refine "${COMMON[@]::${#COMMON[@]}-7}" --auto --auto-k 4,8 --auto-delta 0,0.01,0.8 --auto-lambda 1,2 \
+  --out "$T/tight" >/dev/null
+python3 - "$T/tight/report.json" <<'PY'
+import json, sys
+a = json.load(open(sys.argv[1]))['auto']
+empty = [x for x in a['candidates'] if x['added'] + x['restored'] == 0]
+if len(empty) < 6: print('FAIL: expected the delta 0 / 0.01 points to change nothing'); sys.exit(1)
+if any(x['score'] != 0 for x in empty): print('FAIL: a do-nothing point scored > 0'); sys.exit(1)
+if a['chosen']['added'] + a['chosen']['restored'] == 0: print('FAIL: --auto chose to do nothing'); sys.exit(1)
+print('auto ok: do-nothing points score 0')
 PY
 set +e
 "$BIN" refine --scene "$T/s/scene.ply" --removed "$T/s/removed_gc.npy" --auto --auto-k 4.5 --out "$T/bad" >/dev/null 2>&1
