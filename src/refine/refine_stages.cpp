@@ -243,6 +243,12 @@ nlohmann::json ScoresToJson(const RemovalScores& s) {
           {"iou_w", s.iou_w}, {"removed", s.removed}, {"target", s.target}};
 }
 
+// λ auto = the preset's for this solver.
+GraphOptions WithLambdaFor(const RefineInputs& inputs, GraphOptions options, const Solver& solver) {
+  if (!options.lambda) options.lambda = inputs.preset.LambdaFor(solver.name());
+  return options;
+}
+
 }  // namespace
 
 Eigen::Map<const RowMatXf> RefineInputs::features() const {
@@ -353,12 +359,6 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
 
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
   return BuildGraphGrown(inputs, options, nullptr);
-}
-
-// λ auto = the preset's for this solver.
-GraphOptions WithLambdaFor(const RefineInputs& inputs, GraphOptions options, const Solver& solver) {
-  if (!options.lambda) options.lambda = inputs.preset.LambdaFor(solver.name());
-  return options;
 }
 
 GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& graph_options, Solver& solver,
