@@ -388,7 +388,8 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   if (options.normalize_features) {
     st.second_object = FindSecondObject(knn, median_edge, P.y_remove, features, P.node_ids);
     const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
-    P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior, !(guard && st.second_object.Found()));
+    const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
+    P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior, credit);
   }
   SpatialScale(median_edge, nodes, P, options, st);
   PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());

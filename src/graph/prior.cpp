@@ -192,7 +192,8 @@ void PriorOptions::Check() const {
 }
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
-                                 PriorStats* stats, bool credit_kept) {
+                                 PriorStats* stats, KeptCredit kept_credit) {
+  const bool credit_kept = kept_credit == KeptCredit::kAllowed;
   o.Check();
   const std::size_t V = mask.size();
   if (f.rows() != Eigen::Index(V)) throw Error("prior: feature rows do not match the nodes", ExitCode::kInternal);

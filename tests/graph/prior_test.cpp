@@ -83,8 +83,8 @@ TEST(FeaturePrior, NoKeptCreditWhenTheRemovedSetHoldsASecondObject) {
   al::PriorOptions on;
   on.prototype_credit = on.wide_credit = al::PriorSwitch::kOn;
   al::PriorStats with, without;
-  const std::vector<double> y = al::FeaturePrior(r.f, r.mask, on, &with, true);
-  const std::vector<double> y_guarded = al::FeaturePrior(r.f, r.mask, on, &without, false);
+  const std::vector<double> y = al::FeaturePrior(r.f, r.mask, on, &with, al::KeptCredit::kAllowed);
+  const std::vector<double> y_guarded = al::FeaturePrior(r.f, r.mask, on, &without, al::KeptCredit::kWithheld);
   EXPECT_GT(with.kept_doubted, 200u);
   EXPECT_TRUE(with.kept_credit);
   EXPECT_EQ(without.kept_doubted, 0u);

@@ -79,8 +79,10 @@ struct PriorStats {
 
 // features: V×D unit rows (zero rows = no evidence: y = mask); mask: V in {0, 1}. Returns y (V).
 // With no removed or no kept candidate the prior has nothing to learn from: y = mask.
-// credit_kept = false: no kept Gaussian gets credit (a second object in the removed set).
+// kWithheld: no kept Gaussian gets credit (a second object in the removed set; the graph decides).
+enum class KeptCredit { kAllowed, kWithheld };
 std::vector<double> FeaturePrior(const RowMatXf& features, const std::vector<double>& mask,
-                                 const PriorOptions& options, PriorStats* stats = nullptr, bool credit_kept = true);
+                                 const PriorOptions& options, PriorStats* stats = nullptr,
+                                 KeptCredit kept_credit = KeptCredit::kAllowed);
 
 }  // namespace al
