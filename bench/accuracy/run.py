@@ -12,7 +12,7 @@ Runs al-refine (the issue's command `--method M --k 10 --delta 0.8`, with the de
 --auto, solvers bk and cp) and the numpy baselines B1-B3 on every scene and removal mask; records
 per run dF1, raised, misses recovered, precision of the added, restored count and precision,
 seconds. Records are appended to WORK/records.jsonl as they finish (a rerun skips what is done);
-at the end bench/results/accuracy.json.gz + accuracy.csv and docs/accuracy.md (report.py) are rewritten,
+at the end bench/results/accuracy.json.gz + accuracy.csv.gz and docs/accuracy.md (report.py) are rewritten,
 unless --no-write (exploration on the tuning half). --summary prints the table to stdout.
 """
 import argparse
