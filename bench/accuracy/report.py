@@ -104,8 +104,8 @@ def _gzip_text(path):
 
 def write_raw(records, results_dir, meta):
     os.makedirs(results_dir, exist_ok=True)
-    # gzip: 4,500 records with their prior statistics are 5 MB of JSON and 1.2 MB of CSV, 0.4 and
-    # 0.2 MB compressed (committed files stay under 1 MiB); `gzip -dc bench/results/accuracy.csv.gz`
+    # gzip: 4,500 records with their prior statistics are several MB of JSON and 1.2 MB of CSV, 0.5
+    # and 0.3 MB compressed (committed files stay under 1 MiB); `gzip -dc bench/results/accuracy.csv.gz`
     # or Python's gzip module reads them.
     with _gzip_text(os.path.join(results_dir, "accuracy.json.gz")) as fh:
         json.dump({"meta": meta, "records": records}, fh, separators=(",", ":"))
