@@ -102,13 +102,22 @@ def _gzip_text(path):
     return io.TextIOWrapper(gzip.GzipFile(path, "wb", mtime=0), encoding="utf-8", newline="")
 
 
+def _without_auto_grid(record):
+    """The record without --auto's per-point grid (27 points per run would double the file)."""
+    params = record.get("params")
+    if not isinstance(params, dict) or "auto_candidates" not in params:
+        return record
+    return dict(record, params={k: v for k, v in params.items() if k != "auto_candidates"})
+
+
 def write_raw(records, results_dir, meta):
     os.makedirs(results_dir, exist_ok=True)
     # gzip: 4,500 records with their prior statistics are several MB of JSON and 1.2 MB of CSV, 0.5
     # and 0.3 MB compressed (committed files stay under 1 MiB); `gzip -dc bench/results/accuracy.csv.gz`
     # or Python's gzip module reads them.
+    published = [_without_auto_grid(r) for r in records]
     with _gzip_text(os.path.join(results_dir, "accuracy.json.gz")) as fh:
-        json.dump({"meta": meta, "records": records}, fh, separators=(",", ":"))
+        json.dump({"meta": meta, "records": published}, fh, separators=(",", ":"))
     cols = ["id", "source", "style", "seed", "half", "mask", "method", "config", "solver", "n", "status",
             "f1_before", "f1_after", "dF1", "raised", "lowered_001", "removed", "target", "misses", "over_removed",
             "added", "added_true", "misses_recovered", "precision_added", "restored", "restored_true",
@@ -155,7 +164,7 @@ def write_all(records, repo, quick=False):
     write_raw(records, results, meta) if not quick else None
     if quick:
         with open(os.path.join(results, name + ".json"), "w") as fh:
-            json.dump({"meta": meta, "records": records}, fh, indent=1)
+            json.dump({"meta": meta, "records": [_without_auto_grid(r) for r in records]}, fh, indent=1)
         return
     os.makedirs(os.path.join(repo, "docs", "accuracy"), exist_ok=True)
     plot([r for r in records if r["half"] == "report"], os.path.join(repo, "docs", "accuracy", "dF1_per_scene.png"))

@@ -72,6 +72,10 @@ def _params_of(report):
         out["candidates"] = g.get("nodes")
     if "auto" in report:
         out["auto_chosen"] = {k: report["auto"]["chosen"][k] for k in ("k", "delta", "lambda")}
+        # Every grid point as [k, delta, lambda, score, gt_f1, added, restored, neighbours]: enough to
+        # study another criterion or sub-grid from the records (work folder only; write_raw drops it).
+        out["auto_candidates"] = [[c["k"], c["delta"], c["lambda"], c["score"], c.get("gt_f1"), c["added"],
+                                   c["restored"], c.get("neighbours", [])] for c in report["auto"]["candidates"]]
     return out
 
 

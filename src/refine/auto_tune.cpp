@@ -35,6 +35,7 @@ nlohmann::json CandidateJson(const AutoTuneCandidate& c) {
                       {"empty_graph", c.empty_graph}, {"added", c.added}, {"restored", c.restored}};
   if (!c.eval.is_null()) j["eval"] = c.eval;
   if (c.gt_f1) j["gt_f1"] = *c.gt_f1;
+  if (!c.neighbour_jaccard.empty()) j["neighbours"] = c.neighbour_jaccard;  // [[index, jaccard], ...]
   return j;
 }
 
@@ -125,15 +126,17 @@ void StabilityScores(const AutoTuneOptions& o, const std::vector<std::vector<std
     for (int id = 0; id < D; ++id)
       for (int il = 0; il < L; ++il) {
         const std::size_t self = (std::size_t(ik) * D + id) * L + il;
+        AutoTuneCandidate& candidate = r.candidates[self];
         double sum = 0;
-        int n = 0;
         for (const auto& st : steps) {
           const int a = ik + st[0], b = id + st[1], c = il + st[2];
           if (a < 0 || a >= K || b < 0 || b >= D || c < 0 || c >= L) continue;
-          sum += Jaccard(changed[self], changed[(std::size_t(a) * D + b) * L + c]);
-          ++n;
+          const std::size_t other = (std::size_t(a) * D + b) * L + c;
+          candidate.neighbour_jaccard.emplace_back(other, Jaccard(changed[self], changed[other]));
+          sum += candidate.neighbour_jaccard.back().second;
         }
-        r.candidates[self].score = n ? sum / n : 1.0;
+        const std::size_t n = candidate.neighbour_jaccard.size();
+        candidate.score = n ? sum / double(n) : 1.0;
       }
 }
 

@@ -48,6 +48,14 @@ for run, criterion in (('stab', 'stability'), ('eval', 'eval'),
         # A point that changes nothing has no boundary to be stable on: its Jaccard with any
         # neighbour is 0 (two empty sets included), so its score is 0.
         if any(x['added'] + x['restored'] == 0 and x['score'] != 0 for x in c): fail('do-nothing point scored > 0')
+        # The score is the mean Jaccard over the one-step grid neighbours the report lists, and
+        # the similarity of a pair is the same seen from either end.
+        for i, x in enumerate(c):
+            nb = dict(x['neighbours'])
+            steps = {j for j in range(8) if sum(a != b for a, b in zip(grid[i], grid[j])) == 1}
+            if set(nb) != steps: fail('%s: neighbours of %d are %s, expected %s' % (run, i, sorted(nb), sorted(steps)))
+            if abs(x['score'] - sum(nb.values()) / len(nb)) > 1e-12: fail('%s: score is not the neighbours\' mean' % run)
+            if any(abs(v - dict(c[j]['neighbours'])[i]) > 1e-15 for j, v in nb.items()): fail('%s: asymmetric Jaccard' % run)
     if run == 'flagged' and not all(v['flags_float'] for v in c[0]['eval']['views']): fail('flagged: a view is trusted')
     if criterion == 'eval':
         flagged = {v['view'] for x in c for v in x['eval']['views'] if v['flags_float']}

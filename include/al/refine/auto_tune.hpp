@@ -15,6 +15,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -40,6 +41,10 @@ struct AutoTuneCandidate {
   std::size_t added = 0, restored = 0;
   nlohmann::json eval;                // evaluator metrics ("eval" criterion)
   std::optional<double> gt_f1;        // F1 against ground truth, when known (reporting only)
+  // "stability": the Jaccard similarity with each grid neighbour (candidate index, similarity);
+  // the score is their mean. Kept so a report shows why a point won, and so other aggregations or
+  // sub-grids can be studied from the records without solving again.
+  std::vector<std::pair<std::size_t, double>> neighbour_jaccard;
 };
 
 struct AutoTuneResult {
