@@ -357,6 +357,55 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
   return in;
 }
 
+namespace {
+
+// Restored Gaussians in a feature region the method took whole stay removed
+// (al/graph/taken_whole.hpp): refined is updated, the stats say how many.
+TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                                      std::vector<bool>& refined) {
+  const std::vector<bool>& removed = inputs.removal.removed;
+  std::vector<std::int64_t> restored;
+  for (std::size_t i = 0; i < removed.size(); ++i)
+    if (removed[i] && !refined[i]) restored.push_back(static_cast<std::int64_t>(i));
+  const Scene& scene = *inputs.scene;
+  std::vector<float> xyz(3 * scene.size());
+  std::vector<std::uint8_t> active(scene.size());
+  for (std::size_t i = 0; i < scene.size(); ++i) {
+    for (int a = 0; a < 3; ++a) xyz[3 * i + a] = scene.means(Eigen::Index(i), a);
+    active[i] = !graph.excluded[i];
+  }
+  // The graph's own view of the features (its centring and scene mean).
+  const SceneFeatureMap map{inputs.features(), !inputs.colour_fallback, graph.stats.centred, graph.feature_mean};
+  TakenWholeStats st;
+  const std::vector<std::uint8_t> keep =
+      FindTakenWhole({xyz, active, removed, map, graph.stats.gate_distance, go.k}, restored, &st);
+  for (std::size_t t = 0; t < restored.size(); ++t)
+    if (keep[t]) refined[std::size_t(restored[t])] = true;
+  return st;
+}
+
+// Once per refinement, after the last round (restores do not drive growth): the restored
+// Gaussians of regions the method took whole stay removed; the outcome's counts and message follow.
+// Not when the removed set holds a second object (al/graph/removed_parts.hpp): a region taken
+// whole may then be that object, and giving it back is right (a look-alike FGS grabbed,
+// RefineAccuracy.ASplitLookAlikeIsNotCompleted).
+void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                            SolveOutcome& out) {
+  if (out.empty_graph || out.restored == 0 || go.prior.taken_whole_guard == PriorSwitch::kOff ||
+      graph.stats.second_object.Found())
+    return;
+  const TakenWholeStats tw = KeepRegionsTakenWhole(inputs, graph, go, out.refined);
+  out.decision["taken_whole"] = tw.ToJson();
+  if (tw.kept == 0) return;
+  out.restored -= tw.kept;
+  out.decision["restored"] = out.restored;
+  out.message += "; " + std::to_string(tw.kept) + " of those stay removed, in " +
+                 (tw.regions == 1 ? "a feature region" : std::to_string(tw.regions) + " feature regions") +
+                 " the method took whole (--taken-whole-guard): " + std::to_string(out.restored) + " restored";
+}
+
+}  // namespace
+
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
   return BuildGraphGrown(inputs, options, nullptr);
 }
@@ -406,6 +455,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
   if (r.capped)
     r.outcome.warnings.push_back("candidate growth stopped after " + std::to_string(r.rounds) +
                                  " rounds while the cut was still adding (--grow-rounds)");
+  KeepRestoresTakenWhole(inputs, r.graph, options, r.outcome);
   return r;
 }
 
@@ -442,6 +492,7 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   out.restored = d.restored;
   out.p = std::move(sr.p);
   out.decision = d.ToJson();
+
   out.decision["rule"] = decision.rule.ToString();
   out.decision["restore"] = resolved.Restores();
   out.message = "refined (features " + inputs.feature_source + "): " + std::to_string(d.added) + " Gaussians added" +

@@ -75,7 +75,9 @@ restored=$(jget "$T/fgs/report.json" "['counts']['restored']")
 [ "$(jget "$T/fgs/report.json" "['graph']['prior']['kept_credit']")" = False ] || fail "kept credit with a second object"
 jget "$T/fgs/report.json" "['warnings']" | grep -q "holds a second object" || fail "no second-object warning"
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-second-object-guard \
-  --out "$T/fgs_unguarded" --quiet >/dev/null || fail "fgs --no-second-object-guard run"
+  --taken-whole-guard off --out "$T/fgs_unguarded" --quiet >/dev/null || fail "fgs --no-second-object-guard run"
+[ "$(jget "$T/fgs_unguarded/report.json" "['params']['taken_whole_guard']")" = off ] || fail "taken-whole param"
+[ "$(jget "$T/fgs/report.json" "['params']['taken_whole_guard']")" = auto ] || fail "taken-whole default"
 [ "$(jget "$T/fgs_unguarded/report.json" "['graph']['prior']['kept_credit']")" = True ] || fail "guard not turned off"
 [ "$(jget "$T/fgs_unguarded/report.json" "['params']['second_object_guard']")" = off ] || fail "guard param"
 # --no-restore: refinement only adds.

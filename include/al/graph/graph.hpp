@@ -12,6 +12,7 @@
 #include "al/core/option_table.hpp"
 #include "al/graph/prior.hpp"
 #include "al/graph/removed_parts.hpp"
+#include "al/graph/taken_whole.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
 
@@ -101,6 +102,7 @@ struct GraphResult {
   GraphStats stats;
   std::vector<std::uint8_t> excluded;   // N: 1 = non-finite, excluded from the graph
   std::vector<std::uint8_t> zero_norm;  // per node: feature of zero norm
+  Eigen::VectorXd feature_mean;         // the scene's mean unit feature (zero when not centring)
   std::vector<std::string> warnings;
 };
 
@@ -118,6 +120,7 @@ double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz);
 
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
 RowMatXf ColourFeatures(const Scene& scene);
+
 
 
 }  // namespace al
