@@ -492,7 +492,6 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
   out.restored = d.restored;
   out.p = std::move(sr.p);
   out.decision = d.ToJson();
-
   out.decision["rule"] = decision.rule.ToString();
   out.decision["restore"] = resolved.Restores();
   out.message = "refined (features " + inputs.feature_source + "): " + std::to_string(d.added) + " Gaussians added" +

@@ -11,10 +11,11 @@
 // holds less than half of the removed set), the method removed at least kTakenWholeRatio of it,
 // and at least kTakenWholeShare of the removed set lies in it.
 //
-// Thresholds from the tuning half of the accuracy bench (docs/accuracy.md): the regions of right
-// restores (gen gg-like table slabs) have removed shares ≤ 0.27, the wrong ones of synth gg
-// 0.43–0.92 (and one at 0.32); no gen region other than the main one that holds ≥ 2 % of the
-// removed set reaches 0.3, while tiny fully removed regions (5–10 floaters) are right restores.
+// Thresholds from the tuning half of the accuracy bench (docs/refine.md item 10): the regions of
+// right restores (gen gg-like table slabs) have removed shares ≤ 0.27, those of the wrong ones of
+// synth gg 0.43–0.92 (and one at 0.32); no gen region other than the main one that holds ≥ 2 % of
+// the removed set reaches 0.3, while tiny fully removed regions (5–10 floaters) are right
+// restores.
 #pragma once
 #include <cstdint>
 #include <vector>
