@@ -45,8 +45,9 @@ Eigen::VectorXd SceneFeatureMean(Eigen::Ref<const RowMatXf> features, const std:
     if (!active[std::size_t(i)]) continue;
     // Plain loops: with Eigen temporaries this was a sixth of a refine's time on a 512-D field.
     const float* f = features.row(i).data();
-    const double ss = double(features.row(i).squaredNorm());  // vectorised (float, reassociated)
-    if (!(ss > 0)) continue;
+    double ss = double(features.row(i).squaredNorm());  // vectorised (float, reassociated)
+    if (!(ss > 0) || !std::isfinite(ss)) ss = features.row(i).cast<double>().squaredNorm();  // float's range left
+    if (!(ss > 0) || !std::isfinite(ss)) continue;
     const double inv = 1.0 / std::sqrt(ss);
     for (Eigen::Index d = 0; d < D; ++d) sum[d] += double(f[d]) * inv;
     ++n;

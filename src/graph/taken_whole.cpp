@@ -17,9 +17,16 @@ bool SceneFeatureMap::Row(std::int64_t i, float* out) const {
   Eigen::Map<Eigen::VectorXf> f(out, features.cols());
   f = features.row(Eigen::Index(i)).transpose();
   if (!normalize) return true;
-  // Float throughout (the graph's gate works in double): a region's extent is not sensitive to
-  // the last bits, and the search transforms tens of thousands of rows of up to 512 values.
+  // Float throughout: the graph and the region search transform every row they touch (up to 512
+  // values each), and in double with temporaries that was a sixth of a refine. A row whose squared
+  // norm leaves float's range (|f| beyond ~1e19 or below ~1e-19) is scaled by its largest entry
+  // first, so huge and tiny features keep their direction instead of becoming zero rows.
   float norm = f.norm();
+  if (!(norm > 0) || !std::isfinite(norm)) {
+    const float largest = f.cwiseAbs().maxCoeff();
+    if (largest > 0 && std::isfinite(largest)) f /= largest;
+    norm = f.norm();
+  }
   if (norm > 0 && centre) {
     f = f / norm - mean.cast<float>();
     norm = f.norm();

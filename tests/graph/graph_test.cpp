@@ -209,6 +209,14 @@ TEST(Graph, InvariantToPermutationScaleAndThreads) {
     ExpectSameGraph(base, Edges(al::BuildRefineGraph(t.scene, t.features, t.removed, o).problem), 1e-4);
   }
 
+  // Global scale of the features (rows are normalised): tiny and huge rows whose squared norms
+  // leave float's range give the same graph.
+  for (float s : {1e-30f, 1e-3f, 1e3f, 1e30f}) {
+    al::test::GraphScene t = g;
+    t.features *= s;
+    ExpectSameGraph(base, Edges(al::BuildRefineGraph(t.scene, t.features, t.removed, o).problem), 1e-4);
+  }
+
   // Thread count: bit-identical.
   const int saved = omp_get_max_threads();
   omp_set_num_threads(1);

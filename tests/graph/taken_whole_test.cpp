@@ -120,6 +120,15 @@ TEST(SceneFeatureMap, CentredUnitRowsAndZeroRows) {
   EXPECT_NEAR(out[1], 0.8 / std::sqrt(0.65), 1e-6);
   EXPECT_FALSE(map.Row(1, out));
   EXPECT_EQ(out[0], 0.0f);
+  // Huge and tiny rows keep their direction (their squared norms leave float's range).
+  al::RowMatXf scaled(2, 2);
+  scaled << 3e30f, 4e30f, 3e-30f, 4e-30f;
+  const al::SceneFeatureMap unit{scaled, true, false, Eigen::VectorXd::Zero(2)};
+  for (int r = 0; r < 2; ++r) {
+    ASSERT_TRUE(unit.Row(r, out)) << r;
+    EXPECT_NEAR(out[0], 0.6f, 1e-6) << r;
+    EXPECT_NEAR(out[1], 0.8f, 1e-6) << r;
+  }
   const al::SceneFeatureMap plain{f, false, false, Eigen::VectorXd::Zero(2)};
   ASSERT_TRUE(plain.Row(0, out));
   EXPECT_EQ(out[1], 4.0f);
