@@ -83,10 +83,11 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Choice("second_object_guard", &O::prior, &PriorOptions::second_object_guard, kPriorSwitchNames,
                   "when the removed set holds a second object (a separate part with >= 20 % of it and "
                   "different features), credit no kept Gaussian: either object may be the target (auto: on)")
-          .Choice("taken_whole_guard", &O::prior, &PriorOptions::taken_whole_guard, kPriorSwitchNames,
-                  "never doubt a removed Gaussian whose feature region (the scene's Gaussians linked to it "
-                  "through the gate) the method took whole: >= 40 % of it removed, holding >= 2 % but less "
-                  "than half of the removed set, e.g. an object's part with off features (auto: on)");
+          .Choice("taken_whole_guard", &O::taken_whole_guard, kPriorSwitchNames,
+                  "a restored Gaussian stays removed when its feature region (the scene's Gaussians linked to "
+                  "it through the gate) is one the method took whole: >= 40 % of it removed, holding >= 2 % "
+                  "but less than half of the removed set, e.g. an object's part with off features; not when "
+                  "the removed set holds a second object (auto: on)");
   return table;
 }
 

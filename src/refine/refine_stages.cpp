@@ -391,7 +391,7 @@ TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphRes
 // RefineAccuracy.ASplitLookAlikeIsNotCompleted).
 void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                             SolveOutcome& out) {
-  if (out.empty_graph || out.restored == 0 || go.prior.taken_whole_guard == PriorSwitch::kOff ||
+  if (out.empty_graph || out.restored == 0 || go.taken_whole_guard == PriorSwitch::kOff ||
       graph.stats.second_object.Found())
     return;
   const TakenWholeStats tw = KeepRegionsTakenWhole(inputs, graph, go, out.refined);

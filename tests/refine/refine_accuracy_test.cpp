@@ -276,7 +276,7 @@ TEST(RefineAccuracy, AnObjectPartTheMethodTookWholeStaysRemoved) {
   in.preset = al::MethodPresetFor("gg");
   auto refine = [&](al::PriorSwitch guard) {
     al::GraphOptions o;
-    o.prior.taken_whole_guard = guard;
+    o.taken_whole_guard = guard;
     auto solver = al::MakeSolver("bk");
     return al::BuildAndSolve(in, o, *solver, al::DecisionOptions{}).outcome;
   };

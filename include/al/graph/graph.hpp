@@ -63,6 +63,10 @@ struct GraphOptions {
   Centring centre = Centring::kAuto;  // see Centring; kOff = SPEC §4.4 literally
   // [project] The unary's feature prior (al/graph/prior.hpp); weight 0 = y from the mask alone.
   PriorOptions prior;
+  // [project] After the refine stages' last round, restored Gaussians in a feature region the
+  // method took whole stay removed (al/graph/taken_whole.hpp); auto = on (every preset). Not read
+  // by BuildRefineGraph: the graph is the same either way.
+  PriorSwitch taken_whole_guard = PriorSwitch::kAuto;
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();
@@ -120,7 +124,5 @@ double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz);
 
 // Colour fallback: RGB = 0.5 + C0 · f_dc (N×3, not normalised). Throws when the scene has no f_dc.
 RowMatXf ColourFeatures(const Scene& scene);
-
-
 
 }  // namespace al

@@ -58,9 +58,6 @@ struct PriorOptions {
   // No credit for kept Gaussians when the removed set holds a second object
   // (al/graph/removed_parts.hpp); auto = on (every preset).
   PriorSwitch second_object_guard = PriorSwitch::kAuto;
-  // Removed Gaussians in a feature region the method took whole keep their mask label
-  // (al/graph/taken_whole.hpp); auto = on (every preset).
-  PriorSwitch taken_whole_guard = PriorSwitch::kAuto;
   void Check() const;   // throws al::Error (usage) outside [0, 1]
 };
 
