@@ -87,7 +87,11 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                   "a restored Gaussian stays removed when its feature region (the scene's Gaussians linked to "
                   "it through the gate) is one the method took whole: >= 40 % of it removed, holding >= 2 % "
                   "but less than half of the removed set, e.g. an object's part with off features; not when "
-                  "the removed set holds a second object (auto: on)");
+                  "the removed set holds a second object (auto: on)")
+          .Real("second_object_tolerance", &O::second_object_tolerance, R::Closed(0, 1),
+                "when the removed set holds a second object, additions that complete one of the two stop "
+                "where F1 against the other (read as the target) could fall by more than this; farthest "
+                "first (1 = never)");
   return table;
 }
 

@@ -43,6 +43,15 @@ Eigen::VectorXd PartMean(const std::vector<std::int32_t>& part, std::int32_t roo
   return sum;
 }
 
+std::vector<std::int64_t> SceneRowsOf(const std::vector<std::int32_t>& part, std::int32_t root,
+                                      const std::vector<std::int64_t>& node_ids) {
+  std::vector<std::int64_t> rows;
+  for (std::size_t u = 0; u < part.size(); ++u)
+    if (part[u] == root) rows.push_back(node_ids[u]);
+  std::sort(rows.begin(), rows.end());
+  return rows;
+}
+
 double Cosine(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
   const double n = a.norm() * b.norm();
   return n > 0 ? a.dot(b) / n : 1.0;  // no direction: no evidence of a second object
@@ -61,11 +70,17 @@ SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const st
   if (n_removed == 0) return out;
   const auto largest = std::int32_t(std::max_element(size.begin(), size.end()) - size.begin());
   const Eigen::VectorXd largest_mean = PartMean(part, largest, features, node_ids);
+  std::int32_t second = -1;
   for (std::size_t r = 0; r < size.size(); ++r) {
     if (std::int32_t(r) == largest || double(size[r]) < kSecondShare * double(n_removed)) continue;
     const double cosine = Cosine(PartMean(part, std::int32_t(r), features, node_ids), largest_mean);
     if (cosine >= kSameObjectCosine || (out.Found() && cosine >= out.cosine)) continue;
-    out = {size[r], size[std::size_t(largest)], double(size[r]) / double(n_removed), cosine};
+    out = {size[r], size[std::size_t(largest)], double(size[r]) / double(n_removed), cosine, {}, {}};
+    second = std::int32_t(r);
+  }
+  if (out.Found()) {
+    out.largest_scene_rows = SceneRowsOf(part, largest, node_ids);
+    out.second_scene_rows = SceneRowsOf(part, second, node_ids);
   }
   return out;
 }

@@ -359,6 +359,13 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
 
 namespace {
 
+std::vector<float> ScenePositions(const Scene& scene) {
+  std::vector<float> xyz(3 * scene.size());
+  for (std::size_t i = 0; i < scene.size(); ++i)
+    for (int a = 0; a < 3; ++a) xyz[3 * i + std::size_t(a)] = scene.means(Eigen::Index(i), a);
+  return xyz;
+}
+
 // Restored Gaussians in a feature region the method took whole stay removed
 // (al/graph/taken_whole.hpp): refined is updated, the stats say how many.
 TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
@@ -367,13 +374,9 @@ TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphRes
   std::vector<std::int64_t> restored;
   for (std::size_t i = 0; i < removed.size(); ++i)
     if (removed[i] && !refined[i]) restored.push_back(static_cast<std::int64_t>(i));
-  const Scene& scene = *inputs.scene;
-  std::vector<float> xyz(3 * scene.size());
-  std::vector<std::uint8_t> active(scene.size());
-  for (std::size_t i = 0; i < scene.size(); ++i) {
-    for (int a = 0; a < 3; ++a) xyz[3 * i + a] = scene.means(Eigen::Index(i), a);
-    active[i] = !graph.excluded[i];
-  }
+  const std::vector<float> xyz = ScenePositions(*inputs.scene);
+  std::vector<std::uint8_t> active(xyz.size() / 3);
+  for (std::size_t i = 0; i < active.size(); ++i) active[i] = !graph.excluded[i];
   // The graph's own view of the features (its centring and scene mean).
   const SceneFeatureMap map{inputs.features(), !inputs.colour_fallback, graph.stats.centred, graph.feature_mean};
   TakenWholeStats st;
@@ -402,6 +405,28 @@ void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph
   out.message += "; " + std::to_string(tw.kept) + " of those stay removed, in " +
                  (tw.regions == 1 ? "a feature region" : std::to_string(tw.regions) + " feature regions") +
                  " the method took whole (--taken-whole-guard): " + std::to_string(out.restored) + " restored";
+}
+
+// Once per refinement, after the last round: when the removed set holds a second object, the
+// additions completing one of the two stop where F1 against the other could fall by more than
+// --second-object-tolerance (al/graph/either_object.hpp); the outcome's counts and message follow.
+void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                            SolveOutcome& out) {
+  const SecondObject& so = graph.stats.second_object;
+  if (out.empty_graph || out.added == 0 || !so.Found() || go.second_object_tolerance >= 1.0) return;
+  const std::vector<float> xyz = ScenePositions(*inputs.scene);
+  EitherObjectStats st;
+  const std::vector<std::int64_t> back = TrimOneSidedAdditions(
+      {xyz, inputs.removal.removed, so.largest_scene_rows, so.second_scene_rows, go.second_object_tolerance},
+      out.refined, &st);
+  out.decision["either_object"] = st.ToJson();
+  if (back.empty()) return;
+  for (std::int64_t row : back) out.refined[std::size_t(row)] = false;
+  out.added -= back.size();
+  out.decision["added"] = out.added;
+  out.message += "; " + std::to_string(back.size()) + " of those taken back, farthest first: the removed set " +
+                 "holds two objects, either may be the target, and the additions completed mostly one of them " +
+                 "(--second-object-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
 }
 
 }  // namespace
@@ -456,6 +481,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
     r.outcome.warnings.push_back("candidate growth stopped after " + std::to_string(r.rounds) +
                                  " rounds while the cut was still adding (--grow-rounds)");
   KeepRestoresTakenWhole(inputs, r.graph, options, r.outcome);
+  TrimOneSidedCompletion(inputs, r.graph, options, r.outcome);
   return r;
 }
 

@@ -80,6 +80,23 @@ jget "$T/fgs/report.json" "['warnings']" | grep -q "holds a second object" || fa
 [ "$(jget "$T/fgs/report.json" "['params']['taken_whole_guard']")" = auto ] || fail "taken-whole default"
 [ "$(jget "$T/fgs_unguarded/report.json" "['graph']['prior']['kept_credit']")" = True ] || fail "guard not turned off"
 [ "$(jget "$T/fgs_unguarded/report.json" "['params']['second_object_guard']")" = off ] || fail "guard param"
+# With a second object the additions are read both ways (--second-object-tolerance): what was
+# taken back plus what stays is what the parts were given.
+[ "$(jget "$T/fgs/report.json" "['params']['second_object_tolerance']")" = 0.005 ] || fail "tolerance default"
+python3 - "$T/fgs/report.json" <<'PY' || fail "either_object counts"
+import json, sys
+d = json.load(open(sys.argv[1]))["decision"]
+e = d.get("either_object")
+sys.exit(0 if e is None or sum(e["added"]) == d["added"] + e["trimmed"] else 1)
+PY
+set +e
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --second-object-tolerance 2 \
+  --out "$T/fgs_badtol" --quiet >/dev/null 2>"$T/badtol.err"
+rc=$?
+set -e
+[ "$rc" = 1 ] || fail "--second-object-tolerance 2 exit $rc"
+grep -q "second_object_tolerance" "$T/badtol.err" || fail "bad tolerance message"
+[ ! -e "$T/fgs_badtol/report.json" ] || fail "bad tolerance wrote a report"
 # --no-restore: refinement only adds.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
   --labels "$T/s/labels.npy" --out "$T/fgs_add" --quiet >/dev/null || fail "fgs --no-restore run"

@@ -57,6 +57,13 @@ TEST(SecondObject, TwoSeparateObjectsWithDifferentFeatures) {
   EXPECT_NEAR(so.share, 0.4, 1e-12);
   EXPECT_LT(so.cosine, 0.2);
   EXPECT_TRUE(so.ToJson().is_object());
+  // The parts' scene rows: the first blob is rows 0..599, the look-alike 600..999.
+  ASSERT_EQ(so.largest_scene_rows.size(), 600u);
+  ASSERT_EQ(so.second_scene_rows.size(), 400u);
+  EXPECT_EQ(so.largest_scene_rows.front(), 0);
+  EXPECT_EQ(so.largest_scene_rows.back(), 599);
+  EXPECT_EQ(so.second_scene_rows.front(), 600);
+  EXPECT_EQ(so.second_scene_rows.back(), 999);
 }
 
 TEST(SecondObject, NotForPartsOfOneObjectAFragmentOrATouchingBlob) {

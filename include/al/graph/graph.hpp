@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/option_table.hpp"
+#include "al/graph/either_object.hpp"
 #include "al/graph/prior.hpp"
 #include "al/graph/removed_parts.hpp"
 #include "al/graph/taken_whole.hpp"
@@ -67,6 +68,10 @@ struct GraphOptions {
   // method took whole stay removed (al/graph/taken_whole.hpp); auto = on (every preset). Not read
   // by BuildRefineGraph: the graph is the same either way.
   PriorSwitch taken_whole_guard = PriorSwitch::kAuto;
+  // [project] After the last round, when the removed set holds a second object, additions that
+  // complete one of the two objects stop where F1 against the other could fall by more than this
+  // (al/graph/either_object.hpp); >= 1 = never. Not read by BuildRefineGraph.
+  double second_object_tolerance = kEitherObjectTolerance;
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();

@@ -33,6 +33,9 @@ struct SecondObject {
   std::size_t largest_rows = 0;  // ... in the largest part
   double share = 0.0;            // rows / removed candidates
   double cosine = 1.0;           // of the two parts' mean unit features
+  // Scene rows of the two parts (ascending; empty when none was found): which object an addition
+  // completes (al/graph/either_object.hpp).
+  std::vector<std::int64_t> largest_scene_rows, second_scene_rows;
   bool Found() const { return rows > 0; }
   nlohmann::json ToJson() const;  // null when none was found
 };
