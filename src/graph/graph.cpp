@@ -252,7 +252,7 @@ void GateAndWeigh(PairLists& pl, const RowMatXf& nf, const std::vector<std::uint
   const Eigen::Index D = nf.cols();
   std::vector<std::int64_t> kept(V, 0), unique_count(V, 0);
   std::vector<double> cand_w(pl.other.size(), 0.0);
-  const double sf2 = gate * gate, sx2 = st.sigma_x * st.sigma_x;
+  const double sf2 = st.sigma_f * st.sigma_f, sx2 = st.sigma_x * st.sigma_x;
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(dynamic, 512)
   for (std::int64_t u = 0; u < vv; ++u) {
@@ -359,6 +359,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.num_gaussians = scene.size();
   st.feature_dim = static_cast<std::size_t>(features.cols());
   st.gate_distance = gate;
+  st.sigma_f = gate * options.FeatureWidth();
   st.lambda = options.Lambda();
   Timer stage;
   const SceneNodes nodes = ActiveGaussians(scene, features, removed, options, extra_seeds);
@@ -415,7 +416,7 @@ nlohmann::json GraphStats::ToJson() const {
           {"knn_tie_retries", s.knn_tie_retries},
           {"feature_dim", s.feature_dim},
           {"gate_distance", s.gate_distance},
-          {"sigma_f", s.gate_distance},
+          {"sigma_f", s.sigma_f},
           {"sigma_x", s.sigma_x},
           {"sigma_x_source", s.sigma_x_source},
           {"lambda", s.lambda},

@@ -46,6 +46,13 @@ OptionField<GraphOptions> PriorWeightField() {
                        [](auto& o) -> auto& { return o.prior.weight; }, 0.5);
 }
 
+OptionField<GraphOptions> FeatureWidthField() {
+  return AutoRealField("feature_width", NumericRange::Above(0),
+                       "feature kernel exp(-d_f^2 / sigma_f^2) with sigma_f = this x the gate bound; the gate "
+                       "is unchanged (auto: 2 for --method sags, else 1)",
+                       [](auto& o) -> auto& { return o.feature_width; }, 1.0);
+}
+
 }  // namespace
 
 const OptionTable<GraphOptions>& GraphOptions::Table() {
@@ -59,6 +66,7 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Choice("delta_mode", &O::delta_mode, {{"distance", DeltaMode::kDistance}, {"cosine", DeltaMode::kCosine}},
                   "distance: delta bounds |f_u - f_v|; cosine: delta is a cosine threshold")
           .Custom(LambdaField())
+          .Custom(FeatureWidthField())
           .Flag("spatial", &O::spatial, "spatial weight factor exp(-d_x^2 / sigma_x^2)")
           .Int("hops", &O::hops, R::Closed(0, 100), "candidate growth repetitions")
           .Real("radius_scale", &O::radius_scale, R::Above(0), "multiplier of r_i = max exp(scale)")

@@ -128,6 +128,7 @@ GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& opti
   ResolvePriorSwitch(inputs.preset.wide_credit, go.prior.wide_credit);
   if (go.centre == Centring::kAuto) go.centre = inputs.preset.centre;
   if (!go.prior.weight) go.prior.weight = inputs.preset.prior_weight;
+  if (!go.feature_width) go.feature_width = inputs.preset.feature_width;
   return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
 }
 

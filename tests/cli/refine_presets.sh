@@ -160,6 +160,10 @@ cmp -s <(npy_true "$T/compl.npy") <(npy_true "$T/empty/refined.npy") || fail "em
 # SAGS has no features of its own: the scene's semantic_* here (colour only without them).
 [ "$(jget "$T/sags/report.json" "['params']['colour_fallback']")" = False ] || fail "sags took colour"
 [ "$(jget "$T/sags/report.json" "['params']['feature_source']")" = "semantic_*" ] || fail "sags feature source"
+# --feature-width auto: the sags preset's kernel is twice the gate bound; fgs keeps the gate's.
+[ "$(jget "$T/sags/report.json" "['params']['feature_width']")" = auto ] || fail "feature width param"
+[ "$(jget "$T/sags/report.json" "['graph']['sigma_f'] == 2 * r['graph']['gate_distance']")" = True ] || fail "sags sigma_f"
+[ "$(jget "$T/fgs/report.json" "['graph']['sigma_f'] == r['graph']['gate_distance']")" = True ] || fail "fgs sigma_f"
 
 # GC: float polarity (0 = removed), 5 Gaussians of a 20k scene.
 python3 - "$T/gc.npy" <<'PY'

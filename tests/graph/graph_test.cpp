@@ -106,7 +106,7 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
   auto centred = [&](std::int64_t id) {
     return Eigen::VectorXd(g.features.row(id).cast<double>().transpose().normalized() - mean).normalized();
   };
-  EdgeMap expected;
+  EdgeMap expected, wide;  // wide: --feature-width 2 (σ_f = 2 δ; the same edges pass the gate)
   for (auto [u, v] : knn_pairs) {
     const double df = (centred(p.node_ids[u]) - centred(p.node_ids[v])).norm();
     if (df > o.delta) continue;
@@ -115,10 +115,17 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
       const double d = double(g.scene.means(p.node_ids[u], a)) - g.scene.means(p.node_ids[v], a);
       dx2 += d * d;
     }
-    expected[{p.node_ids[u], p.node_ids[v]}] =
-        std::exp(-df * df / (o.delta * o.delta)) * std::exp(-dx2 / (sigma_x * sigma_x));
+    const double spatial = std::exp(-dx2 / (sigma_x * sigma_x));
+    expected[{p.node_ids[u], p.node_ids[v]}] = std::exp(-df * df / (o.delta * o.delta)) * spatial;
+    wide[{p.node_ids[u], p.node_ids[v]}] = std::exp(-df * df / (4 * o.delta * o.delta)) * spatial;
   }
   ExpectSameGraph(Edges(p), expected, 1e-5);
+  al::GraphOptions ow = o;
+  ow.feature_width = 2.0;
+  const auto rw = al::BuildRefineGraph(g.scene, g.features, g.removed, ow);
+  ExpectSameGraph(Edges(rw.problem), wide, 1e-5);
+  EXPECT_DOUBLE_EQ(rw.stats.sigma_f, 2 * o.delta);
+  EXPECT_DOUBLE_EQ(r.stats.sigma_f, o.delta);
   EXPECT_EQ(r.stats.edges, p.num_edges());
   EXPECT_LT(r.stats.edges, r.stats.edges_knn);  // the gate removed something
   EXPECT_TRUE(r.stats.centred);
@@ -338,6 +345,19 @@ TEST(Graph, PriorWeightTakesAutoOrAWeight) {
   table.SetText(o, "prior_weight", "1.5");
   ExpectCheckRefuses(o, "'prior_weight' = 1.5 must be auto|[0, 1]");
   EXPECT_THROW(table.SetText(o, "prior_weight", "half"), al::Error);
+}
+
+// --feature-width: auto (the preset's; a direct caller gets 1) or a number > 0.
+TEST(Graph, FeatureWidthTakesAutoOrAWidth) {
+  const auto& table = al::GraphOptions::Table();
+  al::GraphOptions o;
+  EXPECT_EQ(o.FeatureWidth(), 1.0);
+  EXPECT_EQ(table.ToJson(o)["feature_width"], "auto");
+  table.SetText(o, "feature_width", "2");
+  EXPECT_EQ(o.FeatureWidth(), 2.0);
+  table.SetText(o, "feature_width", "0");
+  ExpectCheckRefuses(o, "'feature_width' = 0 must be auto|> 0");
+  EXPECT_THROW(table.SetText(o, "feature_width", "wide"), al::Error);
 }
 
 // --lambda: auto (the preset's for the solver; a direct caller gets 1) or a number >= 0.

@@ -151,6 +151,23 @@ TEST(RefineAccuracy, PriorWeightFollowsThePreset) {
   EXPECT_DOUBLE_EQ(weight({.prior_weight = 0.55}, 0.25), 0.25);
 }
 
+// --feature-width auto: the preset's (2 for sags), 1 without one; a number wins.
+TEST(RefineAccuracy, FeatureWidthFollowsThePreset) {
+  const al::fixtures::SynthScene s = Scene("room", 2, false);
+  al::RefineInputs in = InputsOf(s, s.removed.at("fgs"));
+  auto sigma_over_gate = [&](const char* method, std::optional<double> width) {
+    in.preset = al::MethodPresetFor(method);
+    al::GraphOptions o;
+    o.feature_width = width;
+    const al::GraphStats st = al::BuildGraphFor(in, o).stats;
+    return st.sigma_f / st.gate_distance;
+  };
+  EXPECT_DOUBLE_EQ(sigma_over_gate("sags", std::nullopt), 2.0);
+  for (const char* method : {"fgs", "gg", "gc", "generic"}) EXPECT_DOUBLE_EQ(sigma_over_gate(method, std::nullopt), 1.0);
+  EXPECT_DOUBLE_EQ(sigma_over_gate("sags", 1.0), 1.0);
+  EXPECT_DOUBLE_EQ(sigma_over_gate("fgs", 3.0), 3.0);
+}
+
 // --lambda auto: the preset's λ for the solver (gg with bk: 1.5; cut pursuit and the other presets:
 // 1), applied to the edge weights (the graph reports it); a number wins. λ scales every weight.
 TEST(RefineAccuracy, LambdaFollowsThePresetAndTheSolver) {

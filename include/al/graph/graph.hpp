@@ -49,6 +49,12 @@ struct GraphOptions {
   // a direct caller of BuildRefineGraph gets 1.
   std::optional<double> lambda;
   double Lambda() const { return lambda.value_or(1.0); }
+  // [project] Width of the feature kernel exp(−d_f²/σ_f²) as a multiple of the gate bound: σ_f =
+  // feature_width · gate (SPEC §4.4: 1). Unset = auto: the refine stages take the --method
+  // preset's (MethodPreset::feature_width: 2 for sags, else 1); a direct caller gets 1. The gate
+  // itself (which edges exist) does not change.
+  std::optional<double> feature_width;
+  double FeatureWidth() const { return feature_width.value_or(1.0); }
   bool spatial = true;             // multiply weights by exp(−d_x²/σ_x²)
   int hops = 1;                    // candidate growth repetitions
   // [project] Rounds of candidate growth where the cut keeps adding (refine stages: after each
@@ -92,7 +98,8 @@ struct GraphStats {
   std::size_t zero_norm_features = 0;   // candidate nodes whose feature has zero norm
   std::size_t knn_tie_retries = 0;
   std::size_t feature_dim = 0;
-  double gate_distance = 0.0;           // distance bound actually applied (= σ_f)
+  double gate_distance = 0.0;           // distance bound actually applied
+  double sigma_f = 0.0;                 // feature kernel width: gate_distance × feature_width
   double lambda = 0.0;                  // edge weight scale applied (--lambda auto resolved)
   bool centred = false;                 // features centred on the scene mean
   double common_component = 0.0;        // |mean of the scene's unit feature rows| (0: not computed)

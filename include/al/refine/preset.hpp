@@ -40,6 +40,11 @@ struct MethodPreset {
   // The cut-pursuit solvers keep 1: their KL data term balances the edges on another scale, and
   // at 1.5 cp gained nothing and lowered two more tuning scenes (docs/refine.md).
   double bk_lambda = 1.0;
+  // --feature-width auto: SAGS misses thin parts whose features are off (synth: centred cosine
+  // about 0.7 to their neighbours, 0.88 inside the object); a kernel twice as wide lets the edges
+  // that pass the gate there weigh more (tuning half: synth sags +0.0020 → +0.0026 bk, +0.0026 →
+  // +0.0033 cp; docs/refine.md item 12). Within an object's own features the weights stay near 1.
+  double feature_width = 1.0;
 
   // The λ of --lambda auto for a solver (al/solver.hpp names): bk_lambda for bk, else 1.
   double LambdaFor(const std::string& solver) const;
