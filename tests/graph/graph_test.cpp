@@ -106,7 +106,7 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
   auto centred = [&](std::int64_t id) {
     return Eigen::VectorXd(g.features.row(id).cast<double>().transpose().normalized() - mean).normalized();
   };
-  EdgeMap expected, wide;  // wide: --feature-width 2 (σ_f = 2 δ; the same edges pass the gate)
+  EdgeMap expected;
   for (auto [u, v] : knn_pairs) {
     const double df = (centred(p.node_ids[u]) - centred(p.node_ids[v])).norm();
     if (df > o.delta) continue;
@@ -115,16 +115,10 @@ TEST(Graph, StructureGateWeightsAndBruteForceKnn) {
       const double d = double(g.scene.means(p.node_ids[u], a)) - g.scene.means(p.node_ids[v], a);
       dx2 += d * d;
     }
-    const double spatial = std::exp(-dx2 / (sigma_x * sigma_x));
-    expected[{p.node_ids[u], p.node_ids[v]}] = std::exp(-df * df / (o.delta * o.delta)) * spatial;
-    wide[{p.node_ids[u], p.node_ids[v]}] = std::exp(-df * df / (4 * o.delta * o.delta)) * spatial;
+    expected[{p.node_ids[u], p.node_ids[v]}] =
+        std::exp(-df * df / (o.delta * o.delta)) * std::exp(-dx2 / (sigma_x * sigma_x));
   }
   ExpectSameGraph(Edges(p), expected, 1e-5);
-  al::GraphOptions ow = o;
-  ow.feature_width = 2.0;
-  const auto rw = al::BuildRefineGraph(g.scene, g.features, g.removed, ow);
-  ExpectSameGraph(Edges(rw.problem), wide, 1e-5);
-  EXPECT_DOUBLE_EQ(rw.stats.sigma_f, 2 * o.delta);
   EXPECT_DOUBLE_EQ(r.stats.sigma_f, o.delta);
   EXPECT_EQ(r.stats.edges, p.num_edges());
   EXPECT_LT(r.stats.edges, r.stats.edges_knn);  // the gate removed something
@@ -345,6 +339,26 @@ TEST(Graph, PriorWeightTakesAutoOrAWeight) {
   table.SetText(o, "prior_weight", "1.5");
   ExpectCheckRefuses(o, "'prior_weight' = 1.5 must be auto|[0, 1]");
   EXPECT_THROW(table.SetText(o, "prior_weight", "half"), al::Error);
+}
+
+// --feature-width W widens the feature kernel, not the gate: the same edges, and without the
+// spatial factor each weight exp(-d_f^2 / (W delta)^2) is the width-1 weight to the power 1/W^2.
+TEST(Graph, FeatureWidthWidensTheKernelNotTheGate) {
+  auto g = al::test::MakeGraphScene(3000, 11);
+  al::GraphOptions o;
+  o.k = 6;
+  o.delta = 0.9;
+  o.spatial = false;
+  const auto narrow = al::BuildRefineGraph(g.scene, g.features, g.removed, o);
+  o.feature_width = 2.0;
+  const auto wide = al::BuildRefineGraph(g.scene, g.features, g.removed, o);
+  EXPECT_DOUBLE_EQ(narrow.stats.sigma_f, 0.9);
+  EXPECT_DOUBLE_EQ(wide.stats.sigma_f, 1.8);
+  EXPECT_EQ(wide.stats.gate_distance, narrow.stats.gate_distance);
+  EdgeMap expected;
+  for (const auto& [pair, w] : Edges(narrow.problem)) expected[pair] = std::pow(w, 0.25);
+  ASSERT_GT(expected.size(), 100u);
+  ExpectSameGraph(Edges(wide.problem), expected, 1e-9);
 }
 
 // --feature-width: auto (the preset's; a direct caller gets 1) or a number > 0.
