@@ -5,15 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <tuple>
 
-#include <flann/flann.hpp>
+#include "src/graph/row_tree.hpp"
 
 namespace al {
 namespace {
-
-using Tree = flann::KDTreeSingleIndex<flann::L2_Simple<float>>;
 
 struct Addition {
   std::int64_t row = 0;
@@ -21,42 +18,21 @@ struct Addition {
   float sq_dist = 0;   // to the nearest row of that part
 };
 
-// The nearest row of part A ∪ B (ties: the smaller row) and its part, for any scene row.
-class PartLocator {
- public:
-  explicit PartLocator(const EitherObjectInputs& in) : in_(in), rows_(in.part_a) {
-    rows_.insert(rows_.end(), in.part_b.begin(), in.part_b.end());
-    points_.resize(3 * rows_.size());
-    for (std::size_t r = 0; r < rows_.size(); ++r)
-      for (std::size_t a = 0; a < 3; ++a) points_[3 * r + a] = in.xyz[3 * std::size_t(rows_[r]) + a];
-    tree_ = std::make_unique<Tree>(flann::Matrix<float>(points_.data(), rows_.size(), 3),
-                                   flann::KDTreeSingleIndexParams(10));
-    tree_->buildIndex();
+// Each row's nearest row of part A ∪ B (ties: the smaller row) and that row's part.
+std::vector<Addition> AssignToParts(const EitherObjectInputs& in, const RowTree& tree,
+                                    const std::vector<std::int64_t>& rows) {
+  std::vector<std::size_t> index;
+  std::vector<float> sq_dist;
+  std::vector<Addition> out;
+  for (std::int64_t row : rows) {
+    tree.Nearest(&in.xyz[3 * std::size_t(row)], 8, index, sq_dist);  // 8: enough to see a tie
+    std::size_t best = 0;
+    for (std::size_t t = 1; t < index.size(); ++t)
+      if (std::tie(sq_dist[t], tree.rows()[index[t]]) < std::tie(sq_dist[best], tree.rows()[index[best]])) best = t;
+    out.push_back({row, index[best] < in.part_a.size() ? 0 : 1, sq_dist[best]});
   }
-  std::vector<Addition> Assign(const std::vector<std::int64_t>& rows) const {
-    const std::size_t want = std::min<std::size_t>(rows_.size(), 8);  // enough to see a tie
-    std::vector<std::size_t> idx(want);
-    std::vector<float> dist(want);
-    std::vector<Addition> out;
-    for (std::int64_t row : rows) {
-      flann::KNNSimpleResultSet<float> rs(want);
-      tree_->findNeighbors(rs, &in_.xyz[3 * std::size_t(row)], flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, false));
-      const std::size_t got = rs.size();
-      rs.copy(idx.data(), dist.data(), got);
-      std::size_t best = 0;
-      for (std::size_t t = 1; t < got; ++t)
-        if (std::tie(dist[t], rows_[idx[t]]) < std::tie(dist[best], rows_[idx[best]])) best = t;
-      out.push_back({row, idx[best] < in_.part_a.size() ? 0 : 1, dist[best]});
-    }
-    return out;
-  }
-
- private:
-  const EitherObjectInputs& in_;
-  std::vector<std::int64_t> rows_;
-  std::vector<float> points_;
-  std::unique_ptr<Tree> tree_;
-};
+  return out;
+}
 
 // F1 against "the object is part h plus what was added to it", before and after, from counts.
 struct Readings {
@@ -136,9 +112,11 @@ std::vector<std::int64_t> TrimOneSidedAdditions(const EitherObjectInputs& in, co
     if (in.removed[i] && !in_part[i]) fragments.push_back(std::int64_t(i));
   }
   if (!in.part_a.empty() && !in.part_b.empty() && !added.empty()) {
-    const PartLocator locate(in);
-    const std::vector<Addition> adds = locate.Assign(added);
-    const Readings r = CountReadings(in, refined, adds, locate.Assign(fragments));
+    std::vector<std::int64_t> part_rows(in.part_a);
+    part_rows.insert(part_rows.end(), in.part_b.begin(), in.part_b.end());
+    const RowTree tree(in.xyz, std::move(part_rows));
+    const std::vector<Addition> adds = AssignToParts(in, tree, added);
+    const Readings r = CountReadings(in, refined, adds, AssignToParts(in, tree, fragments));
     for (int h = 0; h < 2; ++h) {
       st.parts[h] = std::size_t(r.part[h]);
       st.added[h] = std::size_t(r.added[h]);

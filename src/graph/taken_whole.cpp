@@ -7,9 +7,8 @@
 #include <deque>
 #include <memory>
 
-#include <flann/flann.hpp>
-
 #include "al/core/timer.hpp"
+#include "src/graph/row_tree.hpp"
 
 namespace al {
 
@@ -47,41 +46,30 @@ nlohmann::json TakenWholeStats::ToJson() const {
 
 namespace {
 
-using Tree = flann::KDTreeSingleIndex<flann::L2_Simple<float>>;
-
 // kNN queries of single scene rows among the active ones (the graph's kNN only covers candidates).
 class SceneKnn {
  public:
-  SceneKnn(const std::vector<float>& xyz, const std::vector<std::uint8_t>& active) : xyz_(xyz) {
-    for (std::size_t i = 0; i < active.size(); ++i)
-      if (active[i]) rows_.push_back(static_cast<std::int64_t>(i));
-    points_.resize(3 * rows_.size());
-    for (std::size_t r = 0; r < rows_.size(); ++r)
-      for (int a = 0; a < 3; ++a) points_[3 * r + a] = xyz[3 * std::size_t(rows_[r]) + a];
-    if (rows_.empty()) return;
-    tree_ = std::make_unique<Tree>(flann::Matrix<float>(points_.data(), rows_.size(), 3),
-                                   flann::KDTreeSingleIndexParams(10));
-    tree_->buildIndex();
-  }
+  SceneKnn(const std::vector<float>& xyz, const std::vector<std::uint8_t>& active)
+      : xyz_(xyz), tree_(xyz, ActiveRows(active)) {}
   // Up to k nearest active rows of scene row i, i itself excluded.
-  void Neighbours(std::int64_t i, int k, std::vector<std::int64_t>& out) const {
+  void Neighbours(std::int64_t i, int k, std::vector<std::int64_t>& out) {
     out.clear();
-    if (!tree_) return;
-    const std::size_t want = std::min(rows_.size(), std::size_t(k) + 1);
-    flann::KNNSimpleResultSet<float> rs(want);
-    tree_->findNeighbors(rs, &xyz_[3 * std::size_t(i)], flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0, false));
-    std::vector<std::size_t> idx(rs.size());
-    std::vector<float> dist(rs.size());
-    if (!idx.empty()) rs.copy(idx.data(), dist.data(), idx.size());
-    for (std::size_t t = 0; t < idx.size() && out.size() < std::size_t(k); ++t)
-      if (rows_[idx[t]] != i) out.push_back(rows_[idx[t]]);
+    tree_.Nearest(&xyz_[3 * std::size_t(i)], std::size_t(k) + 1, index_, sq_dist_);
+    for (std::size_t t = 0; t < index_.size() && out.size() < std::size_t(k); ++t)
+      if (tree_.rows()[index_[t]] != i) out.push_back(tree_.rows()[index_[t]]);
   }
 
  private:
+  static std::vector<std::int64_t> ActiveRows(const std::vector<std::uint8_t>& active) {
+    std::vector<std::int64_t> rows;
+    for (std::size_t i = 0; i < active.size(); ++i)
+      if (active[i]) rows.push_back(static_cast<std::int64_t>(i));
+    return rows;
+  }
   const std::vector<float>& xyz_;
-  std::vector<std::int64_t> rows_;
-  std::vector<float> points_;
-  std::unique_ptr<Tree> tree_;
+  RowTree tree_;
+  std::vector<std::size_t> index_;
+  std::vector<float> sq_dist_;
 };
 
 // Each visited row's feature, computed once. Slots, not pointers: a new row may move the storage.
