@@ -9,6 +9,8 @@ default flags, bk and cp; the properties the accuracy bench reports (docs/accura
                  the added >= 0.9 (pooled)
   gg_like        over-removed Gaussians restored at precision >= 0.9 (pooled); F1 raised on every scene
   bk vs cp       the same F1 within 0.02 per run
+  d16 seed 33    sags_like: a drop beyond 0.01 comes with the feature-group warning; with
+                 --feature-group-tolerance 0.005 no drop beyond 0.01
 
 usage: regression.py AL_REFINE GEN_SCENES_PY WORK_DIR
 Exit 0 = pass, 1 = a property failed (each failure printed).
@@ -24,20 +26,51 @@ import metrics  # noqa: E402
 import runner  # noqa: E402
 
 SCENES = [("d16", 16, "plain", 21), ("d32", 32, "plain", 22), ("clip128", 128, "clip", 23)]
+# SAGS takes a touching ball's near side with a target it takes whole (docs/refine.md item 13): the
+# default completes the ball (F1 lowered by 0.033 / 0.060 with bk / cp at this size) and must say
+# so in `warnings`; --feature-group-tolerance 0.005 must keep the drop within 0.01.
+FEATURE_GROUP_SCENE = ("d16", 16, "plain", 33)
+GROUP_WARNING = "group of other features taken in part"
 N = 12000
 MASKS = {"fgs_like": "fgs", "sags_like": "sags", "gg_like": "gg"}
 
 
+def generate(gen_script, work, style, dim, kind, seed):
+    folder = os.path.join(work, f"{style}-{seed}")
+    subprocess.run(["/usr/bin/python3", gen_script, "--out", folder, "--seed", str(seed), "--n-gaussians", str(N),
+                    "--feature-dim", str(dim), "--feature-style", kind], check=True, stdout=subprocess.DEVNULL)
+    return runner.SceneData(folder)
+
+
+def check_feature_group_bound(al_bin, gen_script, work):
+    """The warning by default, the bound on request (FEATURE_GROUP_SCENE); returns failures."""
+    style, dim, kind, seed = FEATURE_GROUP_SCENE
+    data = generate(gen_script, work, style, dim, kind, seed)
+    path = os.path.join(data.folder, "removed_sags_like.npy")
+    failures = []
+    for solver in ("bk", "cp"):
+        name = f"{style}-{seed} sags_like {solver}"
+        default = runner.run_al_refine(al_bin, data, path, "sags", solver, [])
+        bounded = runner.run_al_refine(al_bin, data, path, "sags", solver, ["--feature-group-tolerance", "0.005"])
+        if "error" in (default["status"], bounded["status"]):
+            failures.append(f"{name}: al-refine failed")
+            continue
+        print(f"{name}: F1 {default['f1_before']:.4f} -> {default['f1_after']:.4f} (default), "
+              f"{bounded['f1_after']:.4f} (--feature-group-tolerance 0.005)")
+        if default["dF1"] < -0.01 and not any(GROUP_WARNING in w for w in default["warnings"]):
+            failures.append(f"{name}: F1 lowered by {-default['dF1']:.4f} without the feature-group warning")
+        if bounded["dF1"] < -0.01:
+            failures.append(f"{name}: --feature-group-tolerance 0.005 still lowers F1 by {-bounded['dF1']:.4f}")
+    return failures
+
+
 def main(al_bin, gen_script, work):
     os.makedirs(work, exist_ok=True)
-    failures, recs = [], []
+    failures, recs = check_feature_group_bound(al_bin, gen_script, work), []
     for style, dim, kind, seed in SCENES:
-        folder = os.path.join(work, f"{style}-{seed}")
-        subprocess.run(["/usr/bin/python3", gen_script, "--out", folder, "--seed", str(seed), "--n-gaussians", str(N),
-                        "--feature-dim", str(dim), "--feature-style", kind], check=True, stdout=subprocess.DEVNULL)
-        data = runner.SceneData(folder)
+        data = generate(gen_script, work, style, dim, kind, seed)
         for mask, method in MASKS.items():
-            path = os.path.join(folder, f"removed_{mask}.npy")
+            path = os.path.join(data.folder, f"removed_{mask}.npy")
             by_solver = {}
             for solver in ("bk", "cp"):
                 r = runner.run_al_refine(al_bin, data, path, method, solver, [])

@@ -388,7 +388,10 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     st.second_object = FindSecondObject(knn, median_edge, P.y_remove, features, P.node_ids);
     const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
     const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
-    P.y_remove = FeaturePrior(nf, P.y_remove, options.prior, &st.prior, credit);
+    std::vector<double> upper;
+    const std::vector<double> mask = P.y_remove;
+    P.y_remove = FeaturePrior(nf, mask, options.prior, &st.prior, credit, &upper);
+    if (!st.second_object.Found()) st.whole_object_group = FindWholeObjectGroup(st.prior, upper, mask, P.node_ids);
   }
   SpatialScale(median_edge, nodes, P, options, st);
   PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());
@@ -424,6 +427,7 @@ nlohmann::json GraphStats::ToJson() const {
           {"features_common_component", s.common_component},
           {"prior", s.prior.ToJson()},
           {"second_object", s.second_object.ToJson()},
+          {"whole_object_group", s.whole_object_group.ToJson()},
           {"seconds", {{"candidates", s.seconds_candidates},
                        {"knn", s.seconds_knn},
                        {"edges", s.seconds_edges},

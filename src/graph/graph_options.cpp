@@ -99,7 +99,11 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Real("second_object_tolerance", &O::second_object_tolerance, R::Closed(0, 1),
                 "when the removed set holds a second object, additions that complete one of the two stop "
                 "where F1 against the other (read as the target) could fall by more than this; farthest "
-                "first (1 = never)");
+                "first (1 = never)")
+          .Real("feature_group_tolerance", &O::feature_group_tolerance, R::Closed(0, 1),
+                "the same bound when the removed set holds an object taken whole beside a group of other "
+                "features taken in part (with the prototype credit: sags), which may be the object's own "
+                "off-feature part or a neighbour (1 = never; the report and a warning give the F1 at stake)");
   return table;
 }
 

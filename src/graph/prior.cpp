@@ -192,7 +192,7 @@ void PriorOptions::Check() const {
 }
 
 std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& mask, const PriorOptions& o,
-                                 PriorStats* stats, KeptCredit kept_credit) {
+                                 PriorStats* stats, KeptCredit kept_credit, std::vector<double>* upper_group) {
   const bool credit_kept = kept_credit == KeptCredit::kAllowed;
   o.Check();
   const std::size_t V = mask.size();
@@ -203,6 +203,7 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
   st.weight = weight;
   st.kept_credit = credit_kept;
   const auto n_removed = std::size_t(std::count_if(mask.begin(), mask.end(), [](double m) { return m >= 0.5; }));
+  if (upper_group) upper_group->clear();
   if (weight == 0.0 || n_removed == 0 || n_removed == V) {
     if (stats) *stats = st;
     return y;
@@ -222,6 +223,7 @@ std::vector<double> FeaturePrior(const RowMatXf& f, const std::vector<double>& m
           : st.median_removed - std::max(kCreditZero * st.sigma_removed, kCreditGapShare * st.gap);
   const std::vector<double> upper = UpperPosterior(c, has, mask, st);
   const double doubt_removed = DoubtOfRemoved(st);
+  if (upper_group) *upper_group = upper;
   const double doubt_kept = credit_kept ? Ramp(st.removal_rate_upper, kDoubtKeptZero, kDoubtKeptFull) : 0.0;
   const std::vector<double> credit = o.prototype_credit != PriorSwitch::kOn || !credit_kept
                                          ? std::vector<double>(V, 0.0)

@@ -85,6 +85,22 @@ SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const st
   return out;
 }
 
+FeatureGroupParts FindWholeObjectGroup(const PriorStats& prior, const std::vector<double>& upper,
+                                       const std::vector<double>& removed, const std::vector<std::int64_t>& node_ids) {
+  FeatureGroupParts out;
+  if (!prior.kept_credit || prior.prototype_rows == 0 || upper.size() != removed.size() ||
+      prior.removal_rate_upper < kWholeGroupRate || prior.separation < kApartSeparation)
+    return out;
+  for (std::size_t u = 0; u < removed.size(); ++u)  // node order = ascending scene rows
+    if (removed[u] >= 0.5) (upper[u] >= 0.5 ? out.object_rows : out.other_rows).push_back(node_ids[u]);
+  return out;
+}
+
+nlohmann::json FeatureGroupParts::ToJson() const {
+  if (!Found()) return nullptr;
+  return {{"object_rows", object_rows.size()}, {"other_rows", other_rows.size()}};
+}
+
 nlohmann::json SecondObject::ToJson() const {
   if (!Found()) return nullptr;
   return {{"rows", rows}, {"largest_rows", largest_rows}, {"share", share}, {"cosine", cosine}};

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 
@@ -430,6 +431,37 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
                  "(--second-object-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
 }
 
+// The same after an object group taken whole beside a group of other features taken in part
+// (al/graph/removed_parts.hpp): the readings are reported always, and a completion the other
+// reading would pay for beyond kEitherObjectTolerance is named in the message and `warnings`;
+// taken back as far as --feature-group-tolerance says.
+void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                                 SolveOutcome& out) {
+  const FeatureGroupParts& groups = graph.stats.whole_object_group;
+  if (out.empty_graph || out.added == 0 || !groups.Found()) return;
+  const std::vector<float> xyz = ScenePositions(*inputs.scene);
+  EitherObjectStats st;
+  const std::vector<std::int64_t> back = TrimOneSidedAdditions(
+      {xyz, inputs.removal.removed, groups.object_rows, groups.other_rows, go.feature_group_tolerance}, out.refined,
+      &st);
+  out.decision["feature_groups"] = st.ToJson();
+  const std::string what = "the removed set holds an object taken whole and a group of other features taken in part, "
+                           "and the additions completed mostly one of them";
+  if (!back.empty()) {
+    for (std::int64_t row : back) out.refined[std::size_t(row)] = false;
+    out.added -= back.size();
+    out.decision["added"] = out.added;
+    out.message += "; " + std::to_string(back.size()) + " of those taken back, farthest first: " + what +
+                   " (--feature-group-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
+    return;
+  }
+  if (st.worst_before >= -kEitherObjectTolerance) return;
+  char at_stake[16];
+  std::snprintf(at_stake, sizeof at_stake, "%.4f", -st.worst_before);
+  out.warnings.push_back(what + "; read with the other as the object, they lower F1 by about " + at_stake +
+                         " (--feature-group-tolerance 0.005 bounds that)");
+}
+
 }  // namespace
 
 GraphResult BuildGraphFor(const RefineInputs& inputs, const GraphOptions& options) {
@@ -483,6 +515,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
                                  " rounds while the cut was still adding (--grow-rounds)");
   KeepRestoresTakenWhole(inputs, r.graph, options, r.outcome);
   TrimOneSidedCompletion(inputs, r.graph, options, r.outcome);
+  BoundFeatureGroupCompletion(inputs, r.graph, options, r.outcome);
   return r;
 }
 

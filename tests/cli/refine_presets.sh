@@ -97,6 +97,16 @@ set -e
 [ "$rc" = 1 ] || fail "--second-object-tolerance 2 exit $rc"
 grep -q "second_object_tolerance" "$T/badtol.err" || fail "bad tolerance message"
 [ ! -e "$T/fgs_badtol/report.json" ] || fail "bad tolerance wrote a report"
+# The feature-group bound (docs/refine.md item 13) reports by default and takes back only on request.
+[ "$(jget "$T/fgs/report.json" "['params']['feature_group_tolerance']")" = 1.0 ] || fail "feature-group default"
+set +e
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method sags --feature-group-tolerance -0.5 \
+  --out "$T/sags_badtol" --quiet >/dev/null 2>"$T/badfg.err"
+rc=$?
+set -e
+[ "$rc" = 1 ] || fail "--feature-group-tolerance -0.5 exit $rc"
+grep -q "feature_group_tolerance" "$T/badfg.err" || fail "bad feature-group tolerance message"
+[ ! -e "$T/sags_badtol" ] || fail "bad feature-group tolerance created the output folder"
 # --no-restore: refinement only adds.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
   --labels "$T/s/labels.npy" --out "$T/fgs_add" --quiet >/dev/null || fail "fgs --no-restore run"

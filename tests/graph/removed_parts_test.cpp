@@ -1,11 +1,13 @@
 // FindSecondObject (al/graph/removed_parts.hpp) on hand-made layouts whose answer is known: two
 // separate removed blobs with different features are two objects; the same features, a small
-// fragment, a touching blob or featureless rows are not.
+// fragment, a touching blob or featureless rows are not. FindWholeObjectGroup (same header) on
+// the touching case: an object removed whole beside a neighbour removed in part.
 #include <gtest/gtest.h>
 
 #include <random>
 
 #include "al/graph/graph.hpp"
+#include "al/graph/prior.hpp"
 #include "al/graph/removed_parts.hpp"
 
 namespace {
@@ -19,8 +21,10 @@ struct Layout {
   std::vector<std::int64_t> ids;
 };
 
-// n points uniformly in a unit cube at x offset `x0`, features near `axis` (zero rows if axis < 0).
-void AddBlob(Layout& l, std::mt19937& rng, int n, float x0, int axis, bool removed) {
+// n points uniformly in a unit cube at x offset `x0`, features near `axis` (zero rows if axis < 0),
+// leaning by `lean` toward axis `lean_axis`.
+void AddBlob(Layout& l, std::mt19937& rng, int n, float x0, int axis, bool removed, int lean_axis = 0,
+             float lean = 0.0f) {
   std::uniform_real_distribution<float> u(0.0f, 1.0f);
   std::normal_distribution<float> noise(0.0f, 0.1f);
   for (int i = 0; i < n; ++i) {
@@ -28,7 +32,7 @@ void AddBlob(Layout& l, std::mt19937& rng, int n, float x0, int axis, bool remov
     l.removed.push_back(removed ? 1.0 : 0.0);
     Eigen::RowVectorXf v = Eigen::RowVectorXf::Zero(kDim);
     if (axis >= 0) {
-      for (int d = 0; d < kDim; ++d) v[d] = noise(rng) + (d == axis ? 1.0f : 0.0f);
+      for (int d = 0; d < kDim; ++d) v[d] = noise(rng) + (d == axis ? 1.0f : 0.0f) + (d == lean_axis ? lean : 0.0f);
       v *= 3.0f;  // raw features need not be unit rows
     }
     l.f.conservativeResize(l.f.rows() + 1, kDim);
@@ -106,6 +110,66 @@ TEST(SecondObject, EmptyOrFullMasksAndScaleInvariance) {
     ASSERT_TRUE(so.Found()) << scale;
     EXPECT_EQ(so.rows, 400u) << scale;
   }
+}
+
+// The prior's groups of a layout, and the parts FindWholeObjectGroup finds in them.
+al::FeatureGroupParts GroupsOf(const Layout& l, al::PriorSwitch prototype_credit, al::KeptCredit credit,
+                               al::PriorStats* stats) {
+  al::RowMatXf unit = l.f;
+  unit.rowwise().normalize();
+  al::PriorOptions o;
+  o.prototype_credit = prototype_credit;
+  std::vector<double> upper;
+  al::FeaturePrior(unit, l.removed, o, stats, credit, &upper);
+  return al::FindWholeObjectGroup(*stats, upper, l.removed, l.ids);
+}
+
+// SAGS's touching neighbour: object A (rows 0..599) removed whole, neighbour B's near side (rows
+// 600..999) removed and its far side (1000..1299) kept, background kept; B's features lean toward
+// the background's (a neighbour's toward the table it stands on). One spatial part, but the prior's
+// upper group is A alone, removed whole, and B's group stands apart: two parts, by group.
+TEST(WholeObjectGroup, AnObjectTakenWholeBesideANeighbourTakenInPart) {
+  std::mt19937 rng(4);
+  Layout l;
+  AddBlob(l, rng, 600, 0.0f, 0, true);
+  AddBlob(l, rng, 400, 1.0f, 1, true, 2, 1.0f);
+  AddBlob(l, rng, 300, 2.0f, 1, false, 2, 1.0f);
+  AddBlob(l, rng, 600, 3.0f, 2, false);
+  AddBlob(l, rng, 300, -1.0f, 3, false);
+  EXPECT_FALSE(Find(l).Found());  // touching: not a second object in space
+  al::PriorStats st;
+  const al::FeatureGroupParts g = GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st);
+  EXPECT_GE(st.removal_rate_upper, al::kWholeGroupRate);
+  EXPECT_GE(st.separation, al::kApartSeparation);
+  ASSERT_TRUE(g.Found());
+  ASSERT_EQ(g.object_rows.size(), 600u);
+  ASSERT_EQ(g.other_rows.size(), 400u);
+  EXPECT_EQ(g.object_rows.front(), 0);
+  EXPECT_EQ(g.object_rows.back(), 599);
+  EXPECT_EQ(g.other_rows.front(), 600);
+  EXPECT_EQ(g.other_rows.back(), 999);
+  EXPECT_EQ(g.ToJson()["other_rows"], 400);
+}
+
+// Not when the object group still has misses (its completion is the job), nor when the prior gave
+// no kept Gaussian credit (a second object in space, or the prototype credit off).
+TEST(WholeObjectGroup, NotWithMissesOrWithoutKeptCredit) {
+  std::mt19937 rng(5);
+  Layout l;
+  AddBlob(l, rng, 600, 0.0f, 0, true);
+  AddBlob(l, rng, 400, 1.0f, 1, true, 2, 1.0f);
+  AddBlob(l, rng, 300, 2.0f, 1, false, 2, 1.0f);
+  AddBlob(l, rng, 600, 3.0f, 2, false);
+  AddBlob(l, rng, 300, -1.0f, 3, false);
+  al::PriorStats st;
+  EXPECT_TRUE(GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
+  EXPECT_FALSE(GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kWithheld, &st).Found());
+  EXPECT_FALSE(GroupsOf(l, al::PriorSwitch::kOff, al::KeptCredit::kAllowed, &st).Found());
+  EXPECT_TRUE(GroupsOf(l, al::PriorSwitch::kOff, al::KeptCredit::kAllowed, &st).ToJson().is_null());
+  Layout missed = l;  // A's far side kept: 60 misses of 660 (removal rate 0.91)
+  AddBlob(missed, rng, 60, -0.4f, 0, false);
+  EXPECT_FALSE(GroupsOf(missed, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
+  EXPECT_LT(st.removal_rate_upper, al::kWholeGroupRate);
 }
 
 }  // namespace

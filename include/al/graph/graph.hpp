@@ -78,6 +78,10 @@ struct GraphOptions {
   // complete one of the two objects stop where F1 against the other could fall by more than this
   // (al/graph/either_object.hpp); >= 1 = never. Not read by BuildRefineGraph.
   double second_object_tolerance = kEitherObjectTolerance;
+  // [project] The same bound for an object group taken whole beside a group of other features
+  // taken in part (GraphStats::whole_object_group, al/graph/removed_parts.hpp); the readings are
+  // reported whatever its value. Not read by BuildRefineGraph.
+  double feature_group_tolerance = kFeatureGroupTolerance;
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();
@@ -105,6 +109,7 @@ struct GraphStats {
   double common_component = 0.0;        // |mean of the scene's unit feature rows| (0: not computed)
   PriorStats prior;                     // the unary's feature prior (weight 0: off)
   SecondObject second_object;           // a second object in the removed set (al/graph/removed_parts.hpp)
+  FeatureGroupParts whole_object_group;  // ... or its feature groups beside a whole object (same header)
   double sigma_x = 0.0;                 // spatial scale (0 when --spatial off)
   std::string sigma_x_source;           // "median_knn_distance", "median_radius", "off"
   double seconds_candidates = 0.0, seconds_knn = 0.0, seconds_edges = 0.0, seconds_total = 0.0;

@@ -80,9 +80,12 @@ struct PriorStats {
 // features: V×D unit rows (zero rows = no evidence: y = mask); mask: V in {0, 1}. Returns y (V).
 // With no removed or no kept candidate the prior has nothing to learn from: y = mask.
 // kWithheld: no kept Gaussian gets credit (a second object in the removed set; the graph decides).
+// upper_group (optional): per row, the mixture's posterior of the upper ("object") group (rows
+// without a feature keep their mask value; empty when the prior had nothing to learn from).
 enum class KeptCredit { kAllowed, kWithheld };
 std::vector<double> FeaturePrior(const RowMatXf& features, const std::vector<double>& mask,
                                  const PriorOptions& options, PriorStats* stats = nullptr,
-                                 KeptCredit kept_credit = KeptCredit::kAllowed);
+                                 KeptCredit kept_credit = KeptCredit::kAllowed,
+                                 std::vector<double>* upper_group = nullptr);
 
 }  // namespace al

@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/graph/knn.hpp"
+#include "al/graph/prior.hpp"
 #include "al/scene/scene.hpp"
 
 namespace al {
@@ -45,5 +46,32 @@ struct SecondObject {
 // features: the scene's raw feature rows (uncentred); node_ids: node → scene row. Deterministic.
 SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const std::vector<double>& removed,
                               Eigen::Ref<const RowMatXf> features, const std::vector<std::int64_t>& node_ids);
+
+// The removed set's feature groups, when the object group is already whole [project,
+// docs/refine.md item 13]. SAGS's footprint can take a touching neighbour's near side with the
+// target (gen sags-like d16 seed 33: 2,459 of a ball's 3,685 Gaussians beside a target taken
+// whole). Touching, the two are one spatial part, so FindSecondObject does not see them; the
+// prior's mixture does: its upper ("object") group is removed whole and a lower group that stands
+// apart is removed in part. The prototype credit then completes the lower group, which is right
+// when it is the object's own off-feature part (synth's thin parts; gen clip512 seed 3) and wrong
+// when it is a neighbour — the mask cannot tell, so it is a bet like item 11's, bounded the same
+// way (al/graph/either_object.hpp) with the two groups' removed rows as the parts.
+inline constexpr double kWholeGroupRate = 0.98;    // the upper group's removal rate: "whole"
+inline constexpr double kApartSeparation = 2.5;    // PriorStats::separation: the lower group stands apart
+// The bound's default (GraphOptions::feature_group_tolerance; 1 = report, never take back).
+inline constexpr double kFeatureGroupTolerance = 1.0;
+
+struct FeatureGroupParts {
+  std::vector<std::int64_t> object_rows, other_rows;  // removed scene rows of the upper / lower group
+  bool Found() const { return !object_rows.empty() && !other_rows.empty(); }
+  nlohmann::json ToJson() const;  // null when not found
+};
+
+// prior: the FeaturePrior's statistics; upper: its upper-group posterior per node (empty: none);
+// removed: per node, the mask before the prior (≥ 1/2 = removed). Found only when the prior gave
+// kept Gaussians credit, the upper group's removal rate is ≥ kWholeGroupRate and the separation
+// ≥ kApartSeparation.
+FeatureGroupParts FindWholeObjectGroup(const PriorStats& prior, const std::vector<double>& upper,
+                                       const std::vector<double>& removed, const std::vector<std::int64_t>& node_ids);
 
 }  // namespace al
