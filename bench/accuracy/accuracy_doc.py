@@ -19,7 +19,8 @@ centred-cosine weights; B1/B2 with the issue's parameters, B3's λ = 1 chosen on
 0.1, 0.25, 0.5, 1), and `today`: al-refine as it was before issue 13 (commit 0a8b341, its
 default flags plus `--removed-is removed`; `run.py --today-bin`) and `today_semantic` (the same
 with `--features semantic_`: on synth scenes, which have no `obj_dc_` columns, today's gg preset
-stopped with an error).
+stopped with an error). On the sags masks also `fg_tol_0.005`: the default flags plus
+`--feature-group-tolerance 0.005`, the opt-in bound of docs/refine.md item 13 (not a default).
 
 **Scenes.** Two independent sources, 60,000 Gaussians each:
 - `gen`: `../shared/scenes/gen_scenes.py`, styles d16 (D = 16), d32 (D = 32), clip128 and clip512
