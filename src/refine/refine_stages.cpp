@@ -432,9 +432,9 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
 }
 
 // The same after an object group taken whole beside a group of other features taken in part
-// (al/graph/removed_parts.hpp): the readings are reported always, and a completion the other
-// reading would pay for beyond kEitherObjectTolerance is named in the message and `warnings`;
-// taken back as far as --feature-group-tolerance says.
+// (al/graph/removed_parts.hpp): the readings are reported always; additions are taken back as far
+// as --feature-group-tolerance says, and a completion left that the other reading would pay for
+// beyond kEitherObjectTolerance gets a warning with the F1 at stake (docs/refine.md item 13).
 void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                                  SolveOutcome& out) {
   const FeatureGroupParts& groups = graph.stats.whole_object_group;
