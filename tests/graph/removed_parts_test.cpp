@@ -172,4 +172,27 @@ TEST(WholeObjectGroup, NotWithMissesOrWithoutKeptCredit) {
   EXPECT_LT(st.removal_rate_upper, al::kWholeGroupRate);
 }
 
+// Degenerate inputs: nothing or everything removed (the prior learns nothing), and featureless
+// rows (no evidence: they keep their mask value and never form the other group).
+TEST(WholeObjectGroup, EmptyFullAndFeaturelessInputs) {
+  std::mt19937 rng(6);
+  al::PriorStats st;
+  Layout none;
+  AddBlob(none, rng, 300, 0.0f, 0, false);
+  AddBlob(none, rng, 300, 2.0f, 1, false);
+  EXPECT_FALSE(GroupsOf(none, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
+  Layout all;
+  AddBlob(all, rng, 300, 0.0f, 0, true);
+  AddBlob(all, rng, 300, 1.0f, 1, true);
+  EXPECT_FALSE(GroupsOf(all, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
+  Layout featureless;  // the touching layout with B's removed rows featureless
+  AddBlob(featureless, rng, 600, 0.0f, 0, true);
+  AddBlob(featureless, rng, 400, 1.0f, -1, true);
+  AddBlob(featureless, rng, 300, 2.0f, 1, false, 2, 1.0f);
+  AddBlob(featureless, rng, 600, 3.0f, 2, false);
+  AddBlob(featureless, rng, 300, -1.0f, 3, false);
+  const al::FeatureGroupParts g = GroupsOf(featureless, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st);
+  for (std::int64_t row : g.other_rows) EXPECT_TRUE(row < 600 || row >= 1000) << row;
+}
+
 }  // namespace
