@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <utility>
 
 #include "al/core/error.hpp"
 #include "al/core/input_file.hpp"
@@ -361,22 +362,33 @@ RefineInputs InputsFromData(const RefineData& data, const RefineOptions& o, nloh
 
 namespace {
 
-std::vector<float> ScenePositions(const Scene& scene) {
-  std::vector<float> xyz(3 * scene.size());
-  for (std::size_t i = 0; i < scene.size(); ++i)
-    for (int a = 0; a < 3; ++a) xyz[3 * i + std::size_t(a)] = scene.means(Eigen::Index(i), a);
-  return xyz;
-}
+// The scene's positions as one 3N array, copied at most once per refinement and only when a last
+// step needs them (the taken-whole walk and the readings' nearest parts both do).
+class ScenePositions {
+ public:
+  explicit ScenePositions(const Scene& scene) : scene_(scene) {}
+  const std::vector<float>& Get() {
+    if (xyz_.size() != 3 * scene_.size()) {
+      xyz_.resize(3 * scene_.size());
+      for (std::size_t i = 0; i < scene_.size(); ++i)
+        for (int a = 0; a < 3; ++a) xyz_[3 * i + std::size_t(a)] = scene_.means(Eigen::Index(i), a);
+    }
+    return xyz_;
+  }
+
+ private:
+  const Scene& scene_;
+  std::vector<float> xyz_;
+};
 
 // Restored Gaussians in a feature region the method took whole stay removed
 // (al/graph/taken_whole.hpp): refined is updated, the stats say how many.
 TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
-                                      std::vector<bool>& refined) {
+                                      const std::vector<float>& xyz, std::vector<bool>& refined) {
   const std::vector<bool>& removed = inputs.removal.removed;
   std::vector<std::int64_t> restored;
   for (std::size_t i = 0; i < removed.size(); ++i)
     if (removed[i] && !refined[i]) restored.push_back(static_cast<std::int64_t>(i));
-  const std::vector<float> xyz = ScenePositions(*inputs.scene);
   std::vector<std::uint8_t> active(xyz.size() / 3);
   for (std::size_t i = 0; i < active.size(); ++i) active[i] = !graph.excluded[i];
   // The graph's own view of the features (its centring and scene mean).
@@ -395,11 +407,11 @@ TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphRes
 // whole may then be that object, and giving it back is right (a look-alike FGS grabbed,
 // RefineAccuracy.ASplitLookAlikeIsNotCompleted).
 void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
-                            SolveOutcome& out) {
+                            ScenePositions& xyz, SolveOutcome& out) {
   if (out.empty_graph || out.restored == 0 || go.taken_whole_guard == PriorSwitch::kOff ||
       graph.stats.second_object.Found())
     return;
-  const TakenWholeStats tw = KeepRegionsTakenWhole(inputs, graph, go, out.refined);
+  const TakenWholeStats tw = KeepRegionsTakenWhole(inputs, graph, go, xyz.Get(), out.refined);
   out.decision["taken_whole"] = tw.ToJson();
   if (tw.kept == 0) return;
   out.restored -= tw.kept;
@@ -409,24 +421,34 @@ void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph
                  " the method took whole (--taken-whole-guard): " + std::to_string(out.restored) + " restored";
 }
 
-// Once per refinement, after the last round: when the removed set holds a second object, the
-// additions completing one of the two stop where F1 against the other could fall by more than
-// --second-object-tolerance (al/graph/either_object.hpp); the outcome's counts and message follow.
-void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
-                            SolveOutcome& out) {
-  const SecondObject& so = graph.stats.second_object;
-  if (out.empty_graph || out.added == 0 || !so.Found() || go.second_object_tolerance >= 1.0) return;
-  const std::vector<float> xyz = ScenePositions(*inputs.scene);
+// Item 11's readings of the additions against two parts (al/graph/either_object.hpp): what the
+// tolerance takes back leaves `refined` and the counts; the stats go to decision[key]. Returns
+// the stats and how many were taken back.
+std::pair<EitherObjectStats, std::size_t> TakeBackOneSided(const RefineInputs& inputs, const std::vector<float>& xyz,
+                                                           const std::vector<std::int64_t>& part_a,
+                                                           const std::vector<std::int64_t>& part_b, double tolerance,
+                                                           const char* key, SolveOutcome& out) {
   EitherObjectStats st;
-  const std::vector<std::int64_t> back = TrimOneSidedAdditions(
-      {xyz, inputs.removal.removed, so.largest_scene_rows, so.second_scene_rows, go.second_object_tolerance},
-      out.refined, &st);
-  out.decision["either_object"] = st.ToJson();
-  if (back.empty()) return;
+  const std::vector<std::int64_t> back =
+      TrimOneSidedAdditions({xyz, inputs.removal.removed, part_a, part_b, tolerance}, out.refined, &st);
+  out.decision[key] = st.ToJson();
   for (std::int64_t row : back) out.refined[std::size_t(row)] = false;
   out.added -= back.size();
-  out.decision["added"] = out.added;
-  out.message += "; " + std::to_string(back.size()) + " of those taken back, farthest first: the removed set " +
+  if (!back.empty()) out.decision["added"] = out.added;
+  return {st, back.size()};
+}
+
+// Once per refinement, after the last round: when the removed set holds a second object, the
+// additions completing one of the two stop where F1 against the other could fall by more than
+// --second-object-tolerance; the outcome's counts and message follow.
+void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                            ScenePositions& xyz, SolveOutcome& out) {
+  const SecondObject& so = graph.stats.second_object;
+  if (out.empty_graph || out.added == 0 || !so.Found() || go.second_object_tolerance >= 1.0) return;
+  const std::size_t back = TakeBackOneSided(inputs, xyz.Get(), so.largest_scene_rows, so.second_scene_rows,
+                                            go.second_object_tolerance, "either_object", out).second;
+  if (back == 0) return;
+  out.message += "; " + std::to_string(back) + " of those taken back, farthest first: the removed set " +
                  "holds two objects, either may be the target, and the additions completed mostly one of them " +
                  "(--second-object-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
 }
@@ -436,22 +458,15 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
 // as --feature-group-tolerance says, and a completion left that the other reading would pay for
 // beyond kEitherObjectTolerance gets a warning with the F1 at stake (docs/refine.md item 13).
 void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
-                                 SolveOutcome& out) {
+                                 ScenePositions& xyz, SolveOutcome& out) {
   const FeatureGroupParts& groups = graph.stats.whole_object_group;
   if (out.empty_graph || out.added == 0 || !groups.Found()) return;
-  const std::vector<float> xyz = ScenePositions(*inputs.scene);
-  EitherObjectStats st;
-  const std::vector<std::int64_t> back = TrimOneSidedAdditions(
-      {xyz, inputs.removal.removed, groups.object_rows, groups.other_rows, go.feature_group_tolerance}, out.refined,
-      &st);
-  out.decision["feature_groups"] = st.ToJson();
+  const auto [st, back] = TakeBackOneSided(inputs, xyz.Get(), groups.object_rows, groups.other_rows,
+                                           go.feature_group_tolerance, "feature_groups", out);
   const std::string what = "the removed set holds an object taken whole and a group of other features taken in part, "
                            "and the additions completed mostly one of them";
-  if (!back.empty()) {
-    for (std::int64_t row : back) out.refined[std::size_t(row)] = false;
-    out.added -= back.size();
-    out.decision["added"] = out.added;
-    out.message += "; " + std::to_string(back.size()) + " of those taken back, farthest first: " + what +
+  if (back > 0) {
+    out.message += "; " + std::to_string(back) + " of those taken back, farthest first: " + what +
                    " (--feature-group-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
     return;
   }
@@ -513,9 +528,10 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
   if (r.capped)
     r.outcome.warnings.push_back("candidate growth stopped after " + std::to_string(r.rounds) +
                                  " rounds while the cut was still adding (--grow-rounds)");
-  KeepRestoresTakenWhole(inputs, r.graph, options, r.outcome);
-  TrimOneSidedCompletion(inputs, r.graph, options, r.outcome);
-  BoundFeatureGroupCompletion(inputs, r.graph, options, r.outcome);
+  ScenePositions xyz(*inputs.scene);
+  KeepRestoresTakenWhole(inputs, r.graph, options, xyz, r.outcome);
+  TrimOneSidedCompletion(inputs, r.graph, options, xyz, r.outcome);
+  BoundFeatureGroupCompletion(inputs, r.graph, options, xyz, r.outcome);
   return r;
 }
 

@@ -126,16 +126,23 @@ al::FeatureGroupParts GroupsOf(const Layout& l, al::PriorSwitch prototype_credit
 
 // SAGS's touching neighbour: object A (rows 0..599) removed whole, neighbour B's near side (rows
 // 600..999) removed and its far side (1000..1299) kept, background kept; B's features lean toward
-// the background's (a neighbour's toward the table it stands on). One spatial part, but the prior's
-// upper group is A alone, removed whole, and B's group stands apart: two parts, by group.
-TEST(WholeObjectGroup, AnObjectTakenWholeBesideANeighbourTakenInPart) {
-  std::mt19937 rng(4);
+// the background's (a neighbour's toward the table it stands on). near_side_axis < 0: B's removed
+// rows are featureless.
+Layout TouchingNeighbour(unsigned seed, int near_side_axis = 1) {
+  std::mt19937 rng(seed);
   Layout l;
   AddBlob(l, rng, 600, 0.0f, 0, true);
-  AddBlob(l, rng, 400, 1.0f, 1, true, 2, 1.0f);
+  AddBlob(l, rng, 400, 1.0f, near_side_axis, true, 2, 1.0f);
   AddBlob(l, rng, 300, 2.0f, 1, false, 2, 1.0f);
   AddBlob(l, rng, 600, 3.0f, 2, false);
   AddBlob(l, rng, 300, -1.0f, 3, false);
+  return l;
+}
+
+// One spatial part, but the prior's upper group is A alone, removed whole, and B's group stands
+// apart: two parts, by group.
+TEST(WholeObjectGroup, AnObjectTakenWholeBesideANeighbourTakenInPart) {
+  const Layout l = TouchingNeighbour(4);
   EXPECT_FALSE(Find(l).Found());  // touching: not a second object in space
   al::PriorStats st;
   const al::FeatureGroupParts g = GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st);
@@ -154,13 +161,8 @@ TEST(WholeObjectGroup, AnObjectTakenWholeBesideANeighbourTakenInPart) {
 // Not when the object group still has misses (its completion is the job), nor when the prior gave
 // no kept Gaussian credit (a second object in space, or the prototype credit off).
 TEST(WholeObjectGroup, NotWithMissesOrWithoutKeptCredit) {
+  const Layout l = TouchingNeighbour(5);
   std::mt19937 rng(5);
-  Layout l;
-  AddBlob(l, rng, 600, 0.0f, 0, true);
-  AddBlob(l, rng, 400, 1.0f, 1, true, 2, 1.0f);
-  AddBlob(l, rng, 300, 2.0f, 1, false, 2, 1.0f);
-  AddBlob(l, rng, 600, 3.0f, 2, false);
-  AddBlob(l, rng, 300, -1.0f, 3, false);
   al::PriorStats st;
   EXPECT_TRUE(GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
   EXPECT_FALSE(GroupsOf(l, al::PriorSwitch::kOn, al::KeptCredit::kWithheld, &st).Found());
@@ -185,12 +187,7 @@ TEST(WholeObjectGroup, EmptyFullAndFeaturelessInputs) {
   AddBlob(all, rng, 300, 0.0f, 0, true);
   AddBlob(all, rng, 300, 1.0f, 1, true);
   EXPECT_FALSE(GroupsOf(all, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st).Found());
-  Layout featureless;  // the touching layout with B's removed rows featureless
-  AddBlob(featureless, rng, 600, 0.0f, 0, true);
-  AddBlob(featureless, rng, 400, 1.0f, -1, true);
-  AddBlob(featureless, rng, 300, 2.0f, 1, false, 2, 1.0f);
-  AddBlob(featureless, rng, 600, 3.0f, 2, false);
-  AddBlob(featureless, rng, 300, -1.0f, 3, false);
+  const Layout featureless = TouchingNeighbour(6, -1);
   const al::FeatureGroupParts g = GroupsOf(featureless, al::PriorSwitch::kOn, al::KeptCredit::kAllowed, &st);
   for (std::int64_t row : g.other_rows) EXPECT_TRUE(row < 600 || row >= 1000) << row;
 }
