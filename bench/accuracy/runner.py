@@ -54,8 +54,6 @@ def run_al_refine(al_bin, data, mask_path, method, solver, flags, timeout=1800):
             report = json.load(fh)
         rec.update({"status": report.get("status", "ok"), "seconds": seconds,
                     "warnings": report.get("warnings", []), "params": _params_of(report)})
-        groups = (report.get("decision") or {}).get("feature_groups") or {}
-        rec["feature_groups_bounded"] = bool(groups.get("bounded", False))   # docs/refine.md item 13
         return rec
     finally:
         shutil.rmtree(out, ignore_errors=True)

@@ -103,12 +103,7 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
           .Real("feature_group_tolerance", &O::feature_group_tolerance, R::Closed(0, 1),
                 "the same bound when the removed set holds an object taken whole beside a group of other "
                 "features taken in part (with the prototype credit: sags), which may be the object's own "
-                "off-feature part or a neighbour, where --feature-group-bound applies it (1 = never; the "
-                "report and a warning give the F1 at stake)")
-          .Choice("feature_group_bound", &O::feature_group_bound, kPriorSwitchNames,
-                  "when --feature-group-tolerance applies: auto = only when the cut also restored part of "
-                  "the other group (it reads some of that group as not the object, so completing the group "
-                  "contradicts it); on = always; off = never, report and warn only");
+                "off-feature part or a neighbour (1 = never; the report and a warning give the F1 at stake)");
   return table;
 }
 

@@ -453,49 +453,28 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
                  "(--second-object-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
 }
 
-// How many of `rows` (removed scene rows) the refinement gave back.
-std::size_t CountRestored(const std::vector<std::int64_t>& rows, const std::vector<bool>& refined) {
-  std::size_t n = 0;
-  for (std::int64_t row : rows) n += !refined[std::size_t(row)];
-  return n;
-}
-
-// Whether --feature-group-tolerance applies (--feature-group-bound). Under auto it applies when
-// the cut restored part of the other group: its restore direction then reads some of that group
-// as not the object while its additions complete the group, and the two directions of one cut
-// disagree (gen d16 seed 33: 28 / 50 restored beside 249 / 283 added, the group a neighbour;
-// where the group was the object's own off-feature part, 0 restored: docs/refine.md item 13).
-bool FeatureGroupBoundApplies(PriorSwitch bound, std::size_t restored_other) {
-  if (bound == PriorSwitch::kAuto) return restored_other > 0;
-  return bound == PriorSwitch::kOn;
-}
-
 // The same after an object group taken whole beside a group of other features taken in part
 // (al/graph/removed_parts.hpp): the readings are reported always; additions are taken back as far
-// as --feature-group-tolerance says where --feature-group-bound applies it, and a completion left
-// that the other reading would pay for beyond kEitherObjectTolerance gets a warning with the F1
-// at stake (docs/refine.md item 13).
+// as --feature-group-tolerance says, and a completion left that the other reading would pay for
+// beyond kEitherObjectTolerance gets a warning with the F1 at stake (docs/refine.md item 13).
 void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                                  ScenePositions& xyz, SolveOutcome& out) {
   const FeatureGroupParts& groups = graph.stats.whole_object_group;
   if (out.empty_graph || out.added == 0 || !groups.Found()) return;
-  const bool bounded = FeatureGroupBoundApplies(go.feature_group_bound, CountRestored(groups.other_rows, out.refined));
   const auto [st, back] = TakeBackOneSided(inputs, xyz.Get(), groups.object_rows, groups.other_rows,
-                                           bounded ? go.feature_group_tolerance : 1.0, "feature_groups", out);
-  out.decision["feature_groups"]["bounded"] = bounded;
+                                           go.feature_group_tolerance, "feature_groups", out);
   const std::string what = "the removed set holds an object taken whole and a group of other features taken in part, "
                            "and the additions completed mostly one of them";
   if (back > 0) {
     out.message += "; " + std::to_string(back) + " of those taken back, farthest first: " + what +
-                   (go.feature_group_bound == PriorSwitch::kAuto ? ", and the cut restored part of the other" : "") +
-                   " (--feature-group-bound off keeps them): " + std::to_string(out.added) + " added";
+                   " (--feature-group-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
     return;
   }
-  if (st.worst_after >= -kEitherObjectTolerance) return;
+  if (st.worst_before >= -kEitherObjectTolerance) return;
   char at_stake[16];
-  std::snprintf(at_stake, sizeof at_stake, "%.4f", -st.worst_after);
+  std::snprintf(at_stake, sizeof at_stake, "%.4f", -st.worst_before);
   out.warnings.push_back(what + "; read with the other as the object, they lower F1 by about " + at_stake +
-                         (bounded ? " (--feature-group-tolerance 0.005 bounds that)" : " (--feature-group-bound on bounds that)"));
+                         " (--feature-group-tolerance 0.005 bounds that)");
 }
 
 }  // namespace

@@ -82,10 +82,6 @@ struct GraphOptions {
   // taken in part (GraphStats::whole_object_group, al/graph/removed_parts.hpp); the readings are
   // reported whatever its value. Not read by BuildRefineGraph.
   double feature_group_tolerance = kFeatureGroupTolerance;
-  // [project] When that bound applies: auto = only when the cut also restored part of the other
-  // group (its own two directions disagree about that group: docs/refine.md item 13); on =
-  // always; off = never (the readings and a warning only).
-  PriorSwitch feature_group_bound = PriorSwitch::kAuto;
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();

@@ -19,7 +19,6 @@
 
 #include <nlohmann/json.hpp>
 
-#include "al/graph/either_object.hpp"
 #include "al/graph/knn.hpp"
 #include "al/graph/prior.hpp"
 #include "al/scene/scene.hpp"
@@ -59,9 +58,8 @@ SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const st
 // way (al/graph/either_object.hpp) with the two groups' removed rows as the parts.
 inline constexpr double kWholeGroupRate = 0.98;    // the upper group's removal rate: "whole"
 inline constexpr double kApartSeparation = 2.5;    // PriorStats::separation: the lower group stands apart
-// The bound's default (GraphOptions::feature_group_tolerance; 1 = never take back), applied
-// where GraphOptions::feature_group_bound says.
-inline constexpr double kFeatureGroupTolerance = kEitherObjectTolerance;
+// The bound's default (GraphOptions::feature_group_tolerance; 1 = report, never take back).
+inline constexpr double kFeatureGroupTolerance = 1.0;
 
 struct FeatureGroupParts {
   std::vector<std::int64_t> object_rows, other_rows;  // removed scene rows of the upper / lower group
