@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 #include "al/core/error.hpp"
 #include "al/core/memory_limit.hpp"
@@ -389,7 +390,7 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
     const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
     const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
     std::vector<double> upper;
-    const std::vector<double> mask = P.y_remove;
+    const std::vector<double> mask = std::move(P.y_remove);  // the mask before the prior, for the groups
     P.y_remove = FeaturePrior(nf, mask, options.prior, &st.prior, credit, &upper);
     if (!st.second_object.Found()) st.whole_object_group = FindWholeObjectGroup(st.prior, upper, mask, P.node_ids);
   }

@@ -41,6 +41,17 @@ void AddBlob(Layout& l, std::mt19937& rng, int n, float x0, int axis, bool remov
   }
 }
 
+// Two parts' scene rows when the layout's first blob (rows 0..599) and second (600..999) are
+// the parts: `first` and `second` are exactly those rows, ascending.
+void ExpectBlobRows(const std::vector<std::int64_t>& first, const std::vector<std::int64_t>& second) {
+  ASSERT_EQ(first.size(), 600u);
+  ASSERT_EQ(second.size(), 400u);
+  EXPECT_EQ(first.front(), 0);
+  EXPECT_EQ(first.back(), 599);
+  EXPECT_EQ(second.front(), 600);
+  EXPECT_EQ(second.back(), 999);
+}
+
 al::SecondObject Find(const Layout& l) {
   al::KnnOptions o;
   o.k = 10;
@@ -61,13 +72,7 @@ TEST(SecondObject, TwoSeparateObjectsWithDifferentFeatures) {
   EXPECT_NEAR(so.share, 0.4, 1e-12);
   EXPECT_LT(so.cosine, 0.2);
   EXPECT_TRUE(so.ToJson().is_object());
-  // The parts' scene rows: the first blob is rows 0..599, the look-alike 600..999.
-  ASSERT_EQ(so.largest_scene_rows.size(), 600u);
-  ASSERT_EQ(so.second_scene_rows.size(), 400u);
-  EXPECT_EQ(so.largest_scene_rows.front(), 0);
-  EXPECT_EQ(so.largest_scene_rows.back(), 599);
-  EXPECT_EQ(so.second_scene_rows.front(), 600);
-  EXPECT_EQ(so.second_scene_rows.back(), 999);
+  ExpectBlobRows(so.largest_scene_rows, so.second_scene_rows);  // the first blob, the look-alike
 }
 
 TEST(SecondObject, NotForPartsOfOneObjectAFragmentOrATouchingBlob) {
@@ -149,12 +154,7 @@ TEST(WholeObjectGroup, AnObjectTakenWholeBesideANeighbourTakenInPart) {
   EXPECT_GE(st.removal_rate_upper, al::kWholeGroupRate);
   EXPECT_GE(st.separation, al::kApartSeparation);
   ASSERT_TRUE(g.Found());
-  ASSERT_EQ(g.object_rows.size(), 600u);
-  ASSERT_EQ(g.other_rows.size(), 400u);
-  EXPECT_EQ(g.object_rows.front(), 0);
-  EXPECT_EQ(g.object_rows.back(), 599);
-  EXPECT_EQ(g.other_rows.front(), 600);
-  EXPECT_EQ(g.other_rows.back(), 999);
+  ExpectBlobRows(g.object_rows, g.other_rows);  // object A, neighbour B's near side
   EXPECT_EQ(g.ToJson()["other_rows"], 400);
 }
 
