@@ -62,6 +62,10 @@ def parse_args():
                     help="run nothing: write the reports from every record in the work folder (e.g. "
                          "records of several partial runs concatenated)")
     args = ap.parse_args()
+    known = sorted({half for halves in scenes.HALVES.values() for half in halves})
+    unknown = [h for h in args.halves.split(",") if h not in known]
+    if unknown:
+        ap.error(f"--halves {','.join(unknown)}: not a half (known: {', '.join(known)})")
     if "check" in args.halves.split(",") and not args.no_write:
         ap.error("--halves check needs --no-write: the held-out scenes are not published (bench/accuracy/scenes.py)")
     return args
