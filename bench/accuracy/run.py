@@ -2,7 +2,7 @@
 """Accuracy benchmark of refinement (issue 13): does al-refine recover what a removal method left
 behind, on scenes it was never tuned on? See docs/accuracy.md for what it measures and the results.
 
-usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves report|tune|check|tune,report] [--sources gen,synth]
+usage: bench/accuracy/run.py [--quick] [--today-bin OLD_AL_REFINE] [--halves report|tune|check|check2|tune,report] [--sources gen,synth]
                              [--styles d16,...] [--masks gg_like,...] [--solvers bk,cp] [--configs default,auto]
                              [--config NAME=FLAGS ...] [--baselines B1,B2,B3|none] [--n 60000]
                              [--max-seeds N] [--seeds 28-40] [--bin build/al-refine] [--cache DIR] [--work DIR] [--jobs N]
@@ -37,8 +37,9 @@ def parse_args():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--halves", default="report",
-                    help="report (published), tune (defaults are chosen on it), check (held-out seeds 41-80 "
-                         "for a rule chosen with the reporting half in view; needs --no-write); comma-separated")
+                    help="report (published), tune (defaults are chosen on it), check / check2 (held-out seeds "
+                         "41-80 / 81-120 for a rule chosen with the reporting half in view; need --no-write); "
+                         "comma-separated")
     ap.add_argument("--sources", default="gen,synth")
     ap.add_argument("--styles", default="")
     ap.add_argument("--masks", default="", help="only these removal masks (e.g. gg_like,gg); default: all")
@@ -66,8 +67,10 @@ def parse_args():
     unknown = [h for h in args.halves.split(",") if h not in known]
     if unknown:
         ap.error(f"--halves {','.join(unknown)}: not a half (known: {', '.join(known)})")
-    if "check" in args.halves.split(",") and not args.no_write:
-        ap.error("--halves check needs --no-write: the held-out scenes are not published (bench/accuracy/scenes.py)")
+    held_out = [h for h in args.halves.split(",") if h.startswith("check")]
+    if held_out and not args.no_write:
+        ap.error(f"--halves {held_out[0]} needs --no-write: the held-out scenes are not published "
+                 "(bench/accuracy/scenes.py)")
     return args
 
 

@@ -100,10 +100,15 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                 "when the removed set holds a second object, additions that complete one of the two stop "
                 "where F1 against the other (read as the target) could fall by more than this; farthest "
                 "first (1 = never)")
+          .Choice("feature_group_bound", &O::feature_group_bound, kPriorSwitchNames,
+                  "when the removed set holds an object taken whole beside a group of other features taken "
+                  "in part (with the prototype credit: sags), the additions that complete one of the two stop "
+                  "where F1 read with the other as the object could fall by more than --feature-group-tolerance; "
+                  "auto: only where the additions are a layer of a body that goes on beyond them (a "
+                  "neighbour), not where they complete a part (the object's own off-feature part)")
           .Real("feature_group_tolerance", &O::feature_group_tolerance, R::Closed(0, 1),
-                "the same bound when the removed set holds an object taken whole beside a group of other "
-                "features taken in part (with the prototype credit: sags), which may be the object's own "
-                "off-feature part or a neighbour (1 = never; the report and a warning give the F1 at stake)");
+                "the F1 that bound allows either reading to lose (1 = never take back; the report and a "
+                "warning give the F1 at stake)");
   return table;
 }
 

@@ -46,32 +46,6 @@ nlohmann::json TakenWholeStats::ToJson() const {
 
 namespace {
 
-// kNN queries of single scene rows among the active ones (the graph's kNN only covers candidates).
-class SceneKnn {
- public:
-  SceneKnn(const std::vector<float>& xyz, const std::vector<std::uint8_t>& active)
-      : xyz_(xyz), tree_(xyz, ActiveRows(active)) {}
-  // Up to k nearest active rows of scene row i, i itself excluded.
-  void Neighbours(std::int64_t i, int k, std::vector<std::int64_t>& out) {
-    out.clear();
-    tree_.Nearest(&xyz_[3 * std::size_t(i)], std::size_t(k) + 1, index_, sq_dist_);
-    for (std::size_t t = 0; t < index_.size() && out.size() < std::size_t(k); ++t)
-      if (tree_.rows()[index_[t]] != i) out.push_back(tree_.rows()[index_[t]]);
-  }
-
- private:
-  static std::vector<std::int64_t> ActiveRows(const std::vector<std::uint8_t>& active) {
-    std::vector<std::int64_t> rows;
-    for (std::size_t i = 0; i < active.size(); ++i)
-      if (active[i]) rows.push_back(static_cast<std::int64_t>(i));
-    return rows;
-  }
-  const std::vector<float>& xyz_;
-  RowTree tree_;
-  std::vector<std::size_t> index_;
-  std::vector<float> sq_dist_;
-};
-
 // Each visited row's feature, computed once. Slots, not pointers: a new row may move the storage.
 class FeatureCache {
  public:

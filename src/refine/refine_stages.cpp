@@ -12,6 +12,7 @@
 #include "al/core/input_file.hpp"
 #include "al/core/report.hpp"
 #include "al/core/timer.hpp"
+#include "al/graph/continuing_body.hpp"
 #include "al/metrics/removal_scores.hpp"
 #include "al/io/npy.hpp"
 #include "al/io/ply.hpp"
@@ -453,28 +454,47 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
                  "(--second-object-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
 }
 
+// Whether item 13's bound applies (--feature-group-bound): always, never, or (auto) where the
+// additions are a layer of a body that goes on beyond them (al/graph/continuing_body.hpp), which
+// the decision reports.
+bool FeatureGroupBoundApplies(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                              const std::vector<float>& xyz, SolveOutcome& out) {
+  if (go.feature_group_bound != PriorSwitch::kAuto) return go.feature_group_bound == PriorSwitch::kOn;
+  std::vector<std::uint8_t> active(xyz.size() / 3);
+  for (std::size_t i = 0; i < active.size(); ++i) active[i] = !graph.excluded[i];
+  const SceneFeatureMap map{inputs.features(), !inputs.colour_fallback, graph.stats.centred, graph.feature_mean};
+  const ContinuingBody body =
+      MeasureContinuingBody({xyz, active, inputs.removal.removed, out.refined, map, go.k});
+  out.decision["feature_groups_body"] = body.ToJson();
+  return body.Continues();
+}
+
 // The same after an object group taken whole beside a group of other features taken in part
 // (al/graph/removed_parts.hpp): the readings are reported always; additions are taken back as far
-// as --feature-group-tolerance says, and a completion left that the other reading would pay for
-// beyond kEitherObjectTolerance gets a warning with the F1 at stake (docs/refine.md item 13).
+// as --feature-group-tolerance says where --feature-group-bound applies, and a completion left
+// that the other reading would pay for beyond kEitherObjectTolerance gets a warning with the F1
+// at stake (docs/refine.md items 13, 14).
 void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                                  ScenePositions& xyz, SolveOutcome& out) {
   const FeatureGroupParts& groups = graph.stats.whole_object_group;
   if (out.empty_graph || out.added == 0 || !groups.Found()) return;
-  const auto [st, back] = TakeBackOneSided(inputs, xyz.Get(), groups.object_rows, groups.other_rows,
-                                           go.feature_group_tolerance, "feature_groups", out);
+  const bool bound = FeatureGroupBoundApplies(inputs, graph, go, xyz.Get(), out);
+  const double tolerance = bound ? go.feature_group_tolerance : 1.0;
+  const auto [st, back] =
+      TakeBackOneSided(inputs, xyz.Get(), groups.object_rows, groups.other_rows, tolerance, "feature_groups", out);
   const std::string what = "the removed set holds an object taken whole and a group of other features taken in part, "
                            "and the additions completed mostly one of them";
   if (back > 0) {
     out.message += "; " + std::to_string(back) + " of those taken back, farthest first: " + what +
-                   " (--feature-group-tolerance 1 keeps them): " + std::to_string(out.added) + " added";
+                   ", a layer of a body that goes on beyond them (--feature-group-bound off keeps them): " +
+                   std::to_string(out.added) + " added";
     return;
   }
   if (st.worst_before >= -kEitherObjectTolerance) return;
   char at_stake[16];
   std::snprintf(at_stake, sizeof at_stake, "%.4f", -st.worst_before);
   out.warnings.push_back(what + "; read with the other as the object, they lower F1 by about " + at_stake +
-                         " (--feature-group-tolerance 0.005 bounds that)");
+                         " (--feature-group-bound on bounds that)");
 }
 
 }  // namespace

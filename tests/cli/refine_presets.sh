@@ -42,7 +42,7 @@ PY
 # Out-of-range values are refused before any file is read (exit 1, the table's words), and no
 # output folder appears.
 for bad in "--threshold -1" "--knn-checks -5" "--k 0" "--hops 101" "--kl-smoothing 1" "--delta-mode cos" \
-           "--second-object-tolerance 2" "--feature-group-tolerance -0.5"; do
+           "--second-object-tolerance 2" "--feature-group-tolerance -0.5" "--feature-group-bound maybe"; do
   set +e
   msg=$("$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" $bad --out "$T/bad" 2>&1 >/dev/null)
   rc=$?
@@ -90,9 +90,11 @@ d = json.load(open(sys.argv[1]))["decision"]
 e = d.get("either_object")
 sys.exit(0 if e is None or sum(e["added"]) == d["added"] + e["trimmed"] else 1)
 PY
-# The feature-group bound (docs/refine.md item 13) reports by default and takes back only on request
-# (out-of-range tolerances: the loop at the top).
-[ "$(jget "$T/fgs/report.json" "['params']['feature_group_tolerance']")" = 1.0 ] || fail "feature-group default"
+# The feature-group bound (docs/refine.md items 13, 14) takes back by default only where the
+# additions are a layer of a body that goes on (auto), with item 11's tolerance (out-of-range
+# values: the loop at the top).
+[ "$(jget "$T/fgs/report.json" "['params']['feature_group_tolerance']")" = 0.005 ] || fail "group tolerance default"
+[ "$(jget "$T/fgs/report.json" "['params']['feature_group_bound']")" = auto ] || fail "feature-group bound default"
 # --no-restore: refinement only adds.
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method fgs --solver bk --no-restore \
   --labels "$T/s/labels.npy" --out "$T/fgs_add" --quiet >/dev/null || fail "fgs --no-restore run"

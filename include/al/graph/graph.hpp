@@ -79,9 +79,12 @@ struct GraphOptions {
   // (al/graph/either_object.hpp); >= 1 = never. Not read by BuildRefineGraph.
   double second_object_tolerance = kEitherObjectTolerance;
   // [project] The same bound for an object group taken whole beside a group of other features
-  // taken in part (GraphStats::whole_object_group, al/graph/removed_parts.hpp); the readings are
-  // reported whatever its value. Not read by BuildRefineGraph.
-  double feature_group_tolerance = kFeatureGroupTolerance;
+  // taken in part (GraphStats::whole_object_group, al/graph/removed_parts.hpp): auto = only where
+  // the additions are a layer of a body that goes on beyond them (al/graph/continuing_body.hpp),
+  // on = always, off = never; the readings are reported whatever it says. Not read by
+  // BuildRefineGraph.
+  PriorSwitch feature_group_bound = PriorSwitch::kAuto;
+  double feature_group_tolerance = kFeatureGroupTolerance;  // the bound's tolerance, as above
 
   // The user-settable fields (normalize_features is set by the feature source, not by users).
   static const OptionTable<GraphOptions>& Table();

@@ -58,8 +58,9 @@ SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const st
 // way (al/graph/either_object.hpp) with the two groups' removed rows as the parts.
 inline constexpr double kWholeGroupRate = 0.98;    // the upper group's removal rate: "whole"
 inline constexpr double kApartSeparation = 2.5;    // PriorStats::separation: the lower group stands apart
-// The bound's default (GraphOptions::feature_group_tolerance; 1 = report, never take back).
-inline constexpr double kFeatureGroupTolerance = 1.0;
+// The bound's tolerance (GraphOptions::feature_group_tolerance; 1 = never take back), item 11's;
+// where it applies is GraphOptions::feature_group_bound (al/graph/continuing_body.hpp).
+inline constexpr double kFeatureGroupTolerance = 0.005;
 
 struct FeatureGroupParts {
   std::vector<std::int64_t> object_rows, other_rows;  // removed scene rows of the upper / lower group
