@@ -96,6 +96,13 @@ const OptionTable<GraphOptions>& GraphOptions::Table() {
                   "it through the gate) is one the method took whole: >= 40 % of it removed, holding >= 2 % "
                   "but less than half of the removed set, e.g. an object's part with off features; not when "
                   "the removed set holds a second object (auto: on)")
+          .Choice("restore_window", &O::restore_window, kPriorSwitchNames,
+                  "a restored Gaussian stays removed when its cosine to the removed set's mean centred feature "
+                  "lies within --restore-window-mads robust standard deviations below the removed median: the "
+                  "cut's restores of the object's own rows; not when the removed set holds a second object "
+                  "(auto: off; docs/refine.md item 15)")
+          .Real("restore_window_mads", &O::restore_window_mads, R::Closed(0, 100),
+                "the window's depth in robust standard deviations (1.4826 x the median absolute deviation)")
           .Real("second_object_tolerance", &O::second_object_tolerance, R::Closed(0, 1),
                 "when the removed set holds a second object, additions that complete one of the two stop "
                 "where F1 against the other (read as the target) could fall by more than this; farthest "

@@ -422,6 +422,37 @@ void KeepRestoresTakenWhole(const RefineInputs& inputs, const GraphResult& graph
                  " the method took whole (--taken-whole-guard): " + std::to_string(out.restored) + " restored";
 }
 
+// Once per refinement, after the taken-whole guard: restored Gaussians that look like the removed
+// set (al/graph/restore_window.hpp) stay removed; the outcome's counts and message follow. Not
+// when the removed set holds a second object: the object-like restores are then that object.
+void KeepRestoresInWindow(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
+                          SolveOutcome& out) {
+  if (out.empty_graph || out.restored == 0 || go.restore_window != PriorSwitch::kOn || inputs.colour_fallback ||
+      graph.stats.second_object.Found())
+    return;
+  const std::vector<bool>& removed = inputs.removal.removed;
+  std::vector<std::int64_t> restored;
+  std::vector<std::uint8_t> active(removed.size());
+  for (std::size_t i = 0; i < removed.size(); ++i) {
+    active[i] = !graph.excluded[i];
+    if (removed[i] && !out.refined[i]) restored.push_back(static_cast<std::int64_t>(i));
+  }
+  // Centred whatever the graph did: the window is about where a row sits in the removed set's
+  // spread, which a shared component would compress (the scene mean is computed for fgs too).
+  const bool centre = graph.feature_mean.size() > 0 && graph.feature_mean.norm() > 0;
+  const SceneFeatureMap map{inputs.features(), true, centre, graph.feature_mean};
+  RestoreWindowStats st;
+  const std::vector<std::uint8_t> keep = InRestoreWindow(map, removed, active, restored, go.restore_window_mads, &st);
+  out.decision["restore_window"] = st.ToJson();
+  if (st.kept == 0) return;
+  for (std::size_t t = 0; t < restored.size(); ++t)
+    if (keep[t]) out.refined[std::size_t(restored[t])] = true;
+  out.restored -= st.kept;
+  out.decision["restored"] = out.restored;
+  out.message += "; " + std::to_string(st.kept) + " of those stay removed, their features like the removed set's " +
+                 "(--restore-window): " + std::to_string(out.restored) + " restored";
+}
+
 // Item 11's readings of the additions against two parts (al/graph/either_object.hpp): what the
 // tolerance takes back leaves `refined` and the counts; the stats go to decision[key]. Returns
 // the stats and how many were taken back.
@@ -550,6 +581,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
                                  " rounds while the cut was still adding (--grow-rounds)");
   ScenePositions xyz(*inputs.scene);
   KeepRestoresTakenWhole(inputs, r.graph, options, xyz, r.outcome);
+  KeepRestoresInWindow(inputs, r.graph, options, r.outcome);
   TrimOneSidedCompletion(inputs, r.graph, options, xyz, r.outcome);
   BoundFeatureGroupCompletion(inputs, r.graph, options, xyz, r.outcome);
   return r;

@@ -42,7 +42,8 @@ PY
 # Out-of-range values are refused before any file is read (exit 1, the table's words), and no
 # output folder appears.
 for bad in "--threshold -1" "--knn-checks -5" "--k 0" "--hops 101" "--kl-smoothing 1" "--delta-mode cos" \
-           "--second-object-tolerance 2" "--feature-group-tolerance -0.5" "--feature-group-bound maybe"; do
+           "--second-object-tolerance 2" "--feature-group-tolerance -0.5" "--feature-group-bound maybe" \
+           "--restore-window maybe" "--restore-window-mads -1"; do
   set +e
   msg=$("$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" $bad --out "$T/bad" 2>&1 >/dev/null)
   rc=$?
@@ -125,6 +126,20 @@ grep -q "features semantic_" "$T/ggm.err" || fail "gg without obj_dc_ does not n
 # --lambda auto: gg with bk weighs the edges 1.5 (the preset's), with cp 1; a number wins.
 [ "$(jget "$T/ggm/report.json" "['params']['lambda']")" = auto ] || fail "gg lambda param"
 [ "$(jget "$T/ggm/report.json" "['graph']['lambda']")" = 1.5 ] || fail "gg bk lambda auto"
+# The restore window (docs/refine.md item 15) is opt-in: off by default, and on, what it keeps
+# removed plus what is still restored is what the cut restored.
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_gg.npy" --method gg --solver bk --out "$T/rw_off" \
+  --quiet >/dev/null 2>&1 || fail "gg run for the window"
+"$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_gg.npy" --method gg --solver bk --out "$T/rw_on" \
+  --restore-window on --restore-window-mads 3 --quiet >/dev/null 2>&1 || fail "gg run with the window"
+[ "$(jget "$T/rw_off/report.json" "['params']['restore_window']")" = auto ] || fail "restore-window default"
+python3 - "$T/rw_off/report.json" "$T/rw_on/report.json" <<'PY' || fail "restore-window counts"
+import json, sys
+off, on = (json.load(open(p))["decision"] for p in sys.argv[1:])
+w = on["restore_window"]
+ok = "restore_window" not in off and w["prototype_rows"] > 0 and w["floor"] <= w["median"]
+sys.exit(0 if ok and on["restored"] + w["kept"] == off["restored"] else 1)
+PY
 [ "$(jget "$T/ggm/report.json" "['params']['preset']['bk_lambda']")" = 1.5 ] || fail "gg preset bk_lambda"
 "$BIN" --scene "$T/s/scene.ply" --removed "$T/s/removed_fgs.npy" --method gg --solver cp --out "$T/ggcp" \
   --quiet >/dev/null 2>&1 || fail "gg cp run"

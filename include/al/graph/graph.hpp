@@ -13,6 +13,7 @@
 #include "al/graph/either_object.hpp"
 #include "al/graph/prior.hpp"
 #include "al/graph/removed_parts.hpp"
+#include "al/graph/restore_window.hpp"
 #include "al/graph/taken_whole.hpp"
 #include "al/graph/problem.hpp"
 #include "al/scene/scene.hpp"
@@ -74,6 +75,12 @@ struct GraphOptions {
   // method took whole stay removed (al/graph/taken_whole.hpp); auto = on (every preset). Not read
   // by BuildRefineGraph: the graph is the same either way.
   PriorSwitch taken_whole_guard = PriorSwitch::kAuto;
+  // [project] After the last round, restored Gaussians whose cosine to the removed set's prototype
+  // lies within restore_window_mads robust σ below the removed median stay removed, unless the
+  // removed set holds a second object (al/graph/restore_window.hpp); opt-in: auto = off for every
+  // preset (its held-out check failed one criterion, docs/refine.md item 15).
+  PriorSwitch restore_window = PriorSwitch::kAuto;
+  double restore_window_mads = kRestoreWindowMads;
   // [project] After the last round, when the removed set holds a second object, additions that
   // complete one of the two objects stop where F1 against the other could fall by more than this
   // (al/graph/either_object.hpp); >= 1 = never. Not read by BuildRefineGraph.
