@@ -100,6 +100,13 @@ struct GrownSolve {
   double graph_seconds = 0.0;         // all builds
   double solve_seconds = 0.0;         // all solves
 };
+
+// The steps after the final round (src/refine/last_steps.cpp; docs/refine.md pipeline steps 9-11):
+// the taken-whole guard, the opt-in restore window, the second-object trim and the feature-group
+// bound, in that order, as `options` switch them. Updates out's refined mask, counts, decision,
+// message and warnings.
+void RunLastSteps(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& options,
+                  SolveOutcome& out);
 GrownSolve BuildAndSolve(const RefineInputs& inputs, const GraphOptions& options, Solver& solver,
                          const DecisionOptions& decision);
 // The same from a first graph already built with these options (sweeps build it once for many
