@@ -55,7 +55,7 @@ ContinuingBody MeasureContinuingBody(const ContinuingBodyInputs& in) {
   const AdditionFeatures f = FeaturesOf(in.features, added);
   if (f.rows.rows() == 0 || f.mean.isZero()) return out;
   const float floor = CosineFloor(f);
-  const std::size_t cap = static_cast<std::size_t>(kContinuingCap * double(added.size()));
+  const auto cap = static_cast<std::size_t>(std::ceil(kContinuingRatio * double(added.size())));
   SceneKnn knn(in.xyz, in.active);
   std::vector<std::uint8_t> seen(in.refined.size(), 0);
   for (std::size_t i = 0; i < seen.size(); ++i) seen[i] = in.refined[i];
@@ -76,7 +76,7 @@ ContinuingBody MeasureContinuingBody(const ContinuingBodyInputs& in) {
       seen[std::size_t(v)] = 1;
       if (!similar(v)) continue;
       queue.push_back(v);
-      ++out.body;
+      if (++out.body >= cap) break;
     }
   }
   return out;

@@ -3,6 +3,7 @@
 // same features continues; a part completed whole, with other features beyond it, does not.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <random>
 
 #include "al/graph/continuing_body.hpp"
@@ -58,8 +59,9 @@ TEST(ContinuingBody, ALayerOfANeighbourContinues) {
   const al::ContinuingBody b = Measure(NeighbourLayer());
   EXPECT_GT(b.added, 300u);
   EXPECT_LT(b.added, 500u);
-  // About 2,600 kept Gaussians of the neighbour lie beyond the layer (the walk stops at 8 × added).
-  EXPECT_GE(b.Ratio(), 5.0);
+  // About 2,600 kept Gaussians of the neighbour lie beyond the layer; the walk stops as soon as
+  // it has twice the additions.
+  EXPECT_EQ(b.body, static_cast<std::size_t>(std::ceil(al::kContinuingRatio * double(b.added))));
   EXPECT_TRUE(b.Continues());
   EXPECT_EQ(b.ToJson()["continues"], true);
 }
