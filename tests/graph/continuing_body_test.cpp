@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "al/graph/continuing_body.hpp"
@@ -101,6 +102,29 @@ TEST(ContinuingBody, NoAdditionsOrNoFeaturesMeasureNothing) {
   EXPECT_GT(flat.added, 0u);
   EXPECT_EQ(flat.body, 0u);
   EXPECT_FALSE(flat.Continues());
+}
+
+TEST(ContinuingBody, CoordinateScaleDoesNotMatter) {
+  // kNN and cosines are scale-free: the same layout at 1e-6 and 1e6 gives the same body.
+  const Layout base = NeighbourLayer();
+  const al::ContinuingBody ref = Measure(base);
+  for (float scale : {1e-6f, 1e6f}) {
+    Layout l = base;
+    for (float& x : l.xyz) x *= scale;
+    const al::ContinuingBody b = Measure(l);
+    EXPECT_EQ(b.added, ref.added) << scale;
+    EXPECT_EQ(b.body, ref.body) << scale;
+  }
+}
+
+TEST(ContinuingBody, NonFiniteFeaturesAreNeverPartOfTheBody) {
+  Layout l = NeighbourLayer();
+  for (Eigen::Index i = 0; i < l.f.rows(); ++i)
+    if (!l.refined[std::size_t(i)]) l.f(i, 0) = std::numeric_limits<float>::quiet_NaN();
+  const al::ContinuingBody b = Measure(l);
+  EXPECT_GT(b.added, 300u);
+  EXPECT_EQ(b.body, 0u);
+  EXPECT_FALSE(b.Continues());
 }
 
 TEST(ContinuingBody, IsDeterministic) {

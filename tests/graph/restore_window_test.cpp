@@ -3,6 +3,8 @@
 // direction); restores of object rows fall inside the window, restores of the slab do not.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <limits>
 #include <random>
 
 #include "al/graph/restore_window.hpp"
@@ -88,6 +90,24 @@ TEST(RestoreWindow, InactiveRowsDoNotShapeThePrototype) {
   const auto slab = Window(l.r, Range(l.slab, 200), al::kRestoreWindowMads, &st);
   EXPECT_EQ(st.prototype_rows, 200u);
   EXPECT_GE(Count(slab), 180);
+}
+
+TEST(RestoreWindow, FeatureScaleAndNonFiniteRowsDoNotMatter) {
+  // Rows are normalised: features scaled by 1e-6 or 1e6 give the same window; a NaN row neither
+  // shapes the prototype nor is kept.
+  Layout l = MakeLayout();
+  const auto rows = Range(l.object, 200);
+  const auto ref = Window(l.r, rows, al::kRestoreWindowMads, nullptr);
+  for (float scale : {1e-6f, 1e6f}) {
+    Layout scaled = l;
+    scaled.r.f *= scale;
+    EXPECT_EQ(Window(scaled.r, rows, al::kRestoreWindowMads, nullptr), ref) << scale;
+  }
+  l.r.f(l.object, 0) = std::numeric_limits<float>::quiet_NaN();
+  al::RestoreWindowStats st;
+  const auto in = Window(l.r, rows, al::kRestoreWindowMads, &st);
+  EXPECT_EQ(in[0], 0);
+  EXPECT_EQ(st.prototype_rows, 2199u);
 }
 
 TEST(RestoreWindow, NoUsablePrototypeKeepsNothing) {
