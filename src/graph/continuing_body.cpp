@@ -57,8 +57,7 @@ ContinuingBody MeasureContinuingBody(const ContinuingBodyInputs& in) {
   const float floor = CosineFloor(f);
   const auto cap = static_cast<std::size_t>(std::ceil(kContinuingRatio * double(added.size())));
   SceneKnn knn(in.xyz, in.active);
-  std::vector<std::uint8_t> seen(in.refined.size(), 0);
-  for (std::size_t i = 0; i < seen.size(); ++i) seen[i] = in.refined[i];
+  std::vector<std::uint8_t> seen(in.refined.begin(), in.refined.end());  // the refined set is no body
   std::vector<float> feature(std::size_t(in.features.features.cols()));
   const auto similar = [&](std::int64_t row) {
     return in.features.Row(row, feature.data()) &&

@@ -14,6 +14,7 @@
 #include "al/graph/disjoint_sets.hpp"
 #include "al/graph/knn.hpp"
 #include "al/graph/prior.hpp"
+#include "src/graph/robust_stats.hpp"
 
 namespace al {
 namespace {
@@ -22,16 +23,6 @@ bool RowFinite(const auto& m, Eigen::Index i) {
   for (Eigen::Index c = 0; c < m.cols(); ++c)
     if (!std::isfinite(m(i, c))) return false;
   return true;
-}
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + h, v.end());
-  if (v.size() % 2) return v[h];
-  const double hi = v[h];
-  const double lo = *std::max_element(v.begin(), v.begin() + h);
-  return 0.5 * (lo + hi);
 }
 
 // Mean of the L2-normalised feature rows of the active Gaussians: a strided sample of at most
@@ -214,7 +205,7 @@ void SpatialScale(double median_edge, const SceneNodes& s, const RefineProblem& 
   const std::size_t V = P.node_ids.size();
   std::vector<double> r(V);
   for (std::size_t v = 0; v < V; ++v) r[v] = s.radii[P.node_ids[v]];
-  st.sigma_x = Median(std::move(r));
+  st.sigma_x = MedianOf(std::move(r));
   st.sigma_x_source = "median_radius";
 }
 
@@ -346,7 +337,7 @@ double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) 
       const double x = std::sqrt(SquaredDistance(xyz, u, std::size_t(v)));
       if (x > 0) d.push_back(x);
     }
-  return d.empty() ? 0.0 : Median(std::move(d));
+  return d.empty() ? 0.0 : MedianOf(std::move(d));
 }
 
 // Candidates → kNN → features and prior → gate and weights → components (SPEC §4).

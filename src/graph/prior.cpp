@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "al/core/error.hpp"
+#include "src/graph/robust_stats.hpp"
 
 namespace al {
 namespace {
@@ -37,14 +38,6 @@ constexpr double kDoubtKeptZero = 0.45, kDoubtKeptFull = 0.5;
 
 // 1 at `full`, 0 at `zero`, linear between (either order).
 double Ramp(double x, double zero, double full) { return std::clamp((x - zero) / (full - zero), 0.0, 1.0); }
-
-double MedianOf(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const std::size_t h = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + h, v.end());
-  if (v.size() % 2) return v[h];
-  return 0.5 * (v[h] + *std::max_element(v.begin(), v.begin() + h));
-}
 
 // Projections on unit(mean_R − mean_kept); zero rows have none (has = 0).
 std::vector<double> Project(const RowMatXf& f, const std::vector<double>& mask, std::vector<std::uint8_t>& has) {
@@ -110,13 +103,6 @@ std::vector<double> UpperPosterior(const std::vector<double>& c, const std::vect
   st.removal_rate_lower = all[0] > 0 ? rem[0] / all[0] : 0.0;
   st.removal_rate_upper = all[1] > 0 ? rem[1] / all[1] : 0.0;
   return q;
-}
-
-// The spread of values around their median: (median, 1.4826·MAD, a robust standard deviation).
-std::pair<double, double> MedianAndSpread(std::vector<double> v) {
-  const double median = MedianOf(v);
-  for (double& x : v) x = std::abs(x - median);
-  return {median, 1.4826 * MedianOf(std::move(v))};
 }
 
 // Cosine of each row to the prototype: the mean direction of the removed rows marked `trusted`.

@@ -1,8 +1,9 @@
 // InRestoreWindow (al/graph/restore_window.hpp).
 #include "al/graph/restore_window.hpp"
 
-#include <algorithm>
-#include <cmath>
+#include <tuple>
+
+#include "src/graph/robust_stats.hpp"
 
 namespace al {
 
@@ -11,13 +12,6 @@ nlohmann::json RestoreWindowStats::ToJson() const {
 }
 
 namespace {
-
-double Median(std::vector<double> v) {
-  const std::size_t mid = v.size() / 2;
-  std::nth_element(v.begin(), v.begin() + std::ptrdiff_t(mid), v.end());
-  if (v.size() % 2) return v[mid];
-  return 0.5 * (v[mid] + *std::max_element(v.begin(), v.begin() + std::ptrdiff_t(mid)));
-}
 
 // The removed rows' unit features and their mean direction (zero when none is usable).
 Eigen::VectorXd Prototype(const SceneFeatureMap& map, const std::vector<bool>& removed,
@@ -50,9 +44,7 @@ std::vector<std::uint8_t> InRestoreWindow(const SceneFeatureMap& map, const std:
   cos.reserve(st.prototype_rows);
   for (std::size_t i = 0; i < removed.size(); ++i)
     if (removed[i] && active[i] && map.Row(std::int64_t(i), f.data())) cos.push_back(double(f.dot(proto)));
-  st.median = Median(cos);
-  for (double& c : cos) c = std::abs(c - st.median);
-  st.sigma = kMadToSigma * Median(std::move(cos));
+  std::tie(st.median, st.sigma) = MedianAndSpread(std::move(cos));
   st.floor = st.median - mads * st.sigma;
   for (std::size_t t = 0; t < rows.size(); ++t)
     if (map.Row(rows[t], f.data()) && double(f.dot(proto)) >= st.floor) inside[t] = 1, ++st.kept;

@@ -41,14 +41,20 @@ std::vector<std::uint8_t> ActiveRows(const GraphResult& graph) {
   return active;
 }
 
+// Scene rows the refinement gave back (removed, not refined), ascending.
+std::vector<std::int64_t> RestoredRows(const std::vector<bool>& removed, const std::vector<bool>& refined) {
+  std::vector<std::int64_t> rows;
+  for (std::size_t i = 0; i < removed.size(); ++i)
+    if (removed[i] && !refined[i]) rows.push_back(static_cast<std::int64_t>(i));
+  return rows;
+}
+
 // Restored Gaussians in a feature region the method took whole stay removed
 // (al/graph/taken_whole.hpp): refined is updated, the stats say how many.
 TakenWholeStats KeepRegionsTakenWhole(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                                       const std::vector<float>& xyz, std::vector<bool>& refined) {
   const std::vector<bool>& removed = inputs.removal.removed;
-  std::vector<std::int64_t> restored;
-  for (std::size_t i = 0; i < removed.size(); ++i)
-    if (removed[i] && !refined[i]) restored.push_back(static_cast<std::int64_t>(i));
+  const std::vector<std::int64_t> restored = RestoredRows(removed, refined);
   const std::vector<std::uint8_t> active = ActiveRows(graph);
   // The graph's own view of the features (its centring and scene mean).
   const SceneFeatureMap map{inputs.features(), !inputs.colour_fallback, graph.stats.centred, graph.feature_mean};
@@ -89,9 +95,7 @@ void KeepRestoresInWindow(const RefineInputs& inputs, const GraphResult& graph, 
       graph.stats.second_object.Found())
     return;
   const std::vector<bool>& removed = inputs.removal.removed;
-  std::vector<std::int64_t> restored;
-  for (std::size_t i = 0; i < removed.size(); ++i)
-    if (removed[i] && !out.refined[i]) restored.push_back(static_cast<std::int64_t>(i));
+  const std::vector<std::int64_t> restored = RestoredRows(removed, out.refined);
   const std::vector<std::uint8_t> active = ActiveRows(graph);
   // Centred whatever the graph did: the window is about where a row sits in the removed set's
   // spread, which a shared component would compress (the scene mean is computed for fgs too).
@@ -144,9 +148,10 @@ void TrimOneSidedCompletion(const RefineInputs& inputs, const GraphResult& graph
 
 // Whether item 13's bound applies (--feature-group-bound): always, never, or (auto) where the
 // additions are a layer of a body that goes on beyond them (al/graph/continuing_body.hpp), which
-// the decision reports.
+// the decision reports. A tolerance of 1 takes nothing back, so then nothing is measured.
 bool FeatureGroupBoundApplies(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& go,
                               const std::vector<float>& xyz, SolveOutcome& out) {
+  if (go.feature_group_tolerance >= 1.0) return false;
   if (go.feature_group_bound != PriorSwitch::kAuto) return go.feature_group_bound == PriorSwitch::kOn;
   const std::vector<std::uint8_t> active = ActiveRows(graph);
   const SceneFeatureMap map{inputs.features(), !inputs.colour_fallback, graph.stats.centred, graph.feature_mean};

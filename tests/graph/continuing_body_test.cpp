@@ -56,6 +56,14 @@ Layout NeighbourLayer() {
   return l;
 }
 
+// The neighbour's layer is still added, but nothing beyond it may count as its body.
+void ExpectLayerWithoutBody(const Layout& l) {
+  const al::ContinuingBody b = Measure(l);
+  EXPECT_GT(b.added, 300u);
+  EXPECT_EQ(b.body, 0u);
+  EXPECT_FALSE(b.Continues());
+}
+
 TEST(ContinuingBody, ALayerOfANeighbourContinues) {
   const al::ContinuingBody b = Measure(NeighbourLayer());
   EXPECT_GT(b.added, 300u);
@@ -83,10 +91,7 @@ TEST(ContinuingBody, InactiveRowsAreNeverReached) {
   Layout l = NeighbourLayer();
   for (std::size_t i = 0; i < l.active.size(); ++i)
     if (!l.refined[i]) l.active[i] = 0;  // e.g. non-finite Gaussians the graph excluded
-  const al::ContinuingBody b = Measure(l);
-  EXPECT_GT(b.added, 300u);
-  EXPECT_EQ(b.body, 0u);
-  EXPECT_FALSE(b.Continues());
+  ExpectLayerWithoutBody(l);
 }
 
 TEST(ContinuingBody, NoAdditionsOrNoFeaturesMeasureNothing) {
@@ -98,10 +103,7 @@ TEST(ContinuingBody, NoAdditionsOrNoFeaturesMeasureNothing) {
   EXPECT_FALSE(none.Continues());
   Layout featureless = NeighbourLayer();
   featureless.f.setZero();  // zero-norm rows: no direction to compare with
-  const al::ContinuingBody flat = Measure(featureless);
-  EXPECT_GT(flat.added, 0u);
-  EXPECT_EQ(flat.body, 0u);
-  EXPECT_FALSE(flat.Continues());
+  ExpectLayerWithoutBody(featureless);
 }
 
 TEST(ContinuingBody, CoordinateScaleDoesNotMatter) {
@@ -121,10 +123,7 @@ TEST(ContinuingBody, NonFiniteFeaturesAreNeverPartOfTheBody) {
   Layout l = NeighbourLayer();
   for (Eigen::Index i = 0; i < l.f.rows(); ++i)
     if (!l.refined[std::size_t(i)]) l.f(i, 0) = std::numeric_limits<float>::quiet_NaN();
-  const al::ContinuingBody b = Measure(l);
-  EXPECT_GT(b.added, 300u);
-  EXPECT_EQ(b.body, 0u);
-  EXPECT_FALSE(b.Continues());
+  ExpectLayerWithoutBody(l);
 }
 
 TEST(ContinuingBody, IsDeterministic) {

@@ -25,7 +25,6 @@
 namespace al {
 
 inline constexpr double kRestoreWindowMads = 2.0;
-inline constexpr double kMadToSigma = 1.4826;  // a normal distribution's σ per median absolute deviation
 
 struct RestoreWindowStats {
   std::size_t prototype_rows = 0;  // removed rows with a usable feature
