@@ -8,6 +8,7 @@
 #include "al/eval/inputs.hpp"
 #include "src/cli/background_flag.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/warnings.hpp"
 #include "src/cli/feature_flags.hpp"
 
 namespace al::cli {
@@ -84,7 +85,7 @@ class EvalCommand : public Command {
     o_.feature = ToFeatureOptions(feature_, in.scene);
     in.report["params"].update({{"bg", bg_}, {"threads", o_.render.num_threads}, {"no_images", no_images_}});
     const eval::EvalResult r = eval::RunEval(in.scene, in.views, in.columns, in.object, o_, &in.report);
-    for (const auto& w : r.report["warnings"]) std::cerr << "warning: " << w.get<std::string>() << "\n";
+    PrintReportWarnings(r.report);
     std::cout << r.BriefReport(in.row, in.views.size());
     std::printf("wrote %s/{report.json, report.html, metrics.csv, table.md, table.tex, images/}\n", o_.out_dir.c_str());
     return 0;

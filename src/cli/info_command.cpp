@@ -67,6 +67,7 @@ class InfoCommand : public Command {
       std::cout << verify_ << ": " << s.state << (s.command.empty() ? "" : " (" + s.command + ")") << ", " << s.files
                 << " files in the manifest\n";
       for (const auto& p : s.problems) std::cout << "  " << p << "\n";
+      for (const auto& n : s.notes) std::cout << "  note: " << n << "\n";
     }
     const bool ok = s.state == "complete" || s.state == "extended";
     return ok ? 0 : static_cast<int>(ExitCode::kBadInput);

@@ -7,6 +7,7 @@
 #include <new>
 
 #include "al/core/error.hpp"
+#include "al/core/interrupts.hpp"
 #include "src/cli/command.hpp"
 #include "src/cli/openmp_defaults.hpp"
 #include "src/cli/run_policy.hpp"
@@ -39,6 +40,7 @@ std::vector<std::string> WithDefaultSubcommand(int argc, char** argv,
 int main(int argc, char** argv) {
   using namespace al::cli;
   ApplyOpenMpDefaults(argv);
+  al::InstallInterruptCleanup();  // before any thread: every thread leaves the signals to it
   CLI::App app{
       "al-refine: refine and score object removals in 3D Gaussian Splatting scenes.\n"
       "Without a subcommand, flags are passed to `refine`. Every subcommand writes report.json.\n"
@@ -53,12 +55,11 @@ int main(int argc, char** argv) {
   std::sort(commands.begin(), commands.end(),
             [](const auto& a, const auto& b) { return a->Name() < b->Name(); });
   std::vector<CLI::App*> subs;
-  std::string max_memory;
-  bool force = false;
+  RunPolicyFlags policy;
   for (std::size_t i = 0; i < commands.size(); ++i) {
     CLI::App* sub = app.add_subcommand(commands[i]->Name(), commands[i]->Description());
     commands[i]->Setup(*sub);
-    AddRunPolicyFlags(*sub, max_memory, force);
+    AddRunPolicyFlags(*sub, policy);
     subs.push_back(sub);
     names[commands[i]->Name()] = int(i);
   }
@@ -80,7 +81,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < subs.size(); ++i) {
     if (!subs[i]->parsed()) continue;
     try {
-      ApplyRunPolicy(max_memory, force);
+      ApplyRunPolicy(policy);
       return commands[i]->Run();
     } catch (const al::Error& e) {
       std::cerr << "al-refine " << commands[i]->Name() << ": error: " << e.what() << "\n";

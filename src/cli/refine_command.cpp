@@ -5,6 +5,7 @@
 #include "al/refine/auto_tune.hpp"
 #include "al/refine/refine.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/warnings.hpp"
 #include "src/cli/refine_flags.hpp"
 
 namespace al::cli {
@@ -48,8 +49,7 @@ class RefineCommand : public Command {
       throw Error("--cameras / --object-masks are for --auto (use `al-refine eval` to score a refinement)",
                   ExitCode::kUsage);
     const RefineResult r = auto_ ? RunAuto(o) : RunRefine(o);
-    for (const auto& w : r.report["warnings"])
-      if (w.get<std::string>() != r.message) std::cerr << "warning: " << w.get<std::string>() << "\n";
+    PrintReportWarnings(r.report, r.message);
     std::cout << r.BriefReport();
     (r.exit_code == 0 ? std::cout : std::cerr) << r.message << "\n";
     std::cout << "wrote " << o.out_dir << "/report.json\n";

@@ -5,6 +5,7 @@
 #include "al/render/render_views.hpp"
 #include "src/cli/background_flag.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/warnings.hpp"
 
 namespace al::cli {
 
@@ -42,7 +43,7 @@ class RenderCommand : public Command {
                  {"npy", o_.npy},         {"width", o_.width},       {"height", o_.height},
                  {"sh_degree", o_.render.max_sh_degree}, {"threads", o_.render.num_threads}};
     const RenderViewsResult r = RenderViewsToFolder(o_);
-    for (const auto& w : r.report["warnings"]) std::fprintf(stderr, "warning: %s\n", w.get<std::string>().c_str());
+    PrintReportWarnings(r.report);
     std::printf("rendered %zu views of %zu Gaussians (%zu removed) -> %s\n", r.views,
                 r.report["counts"]["num_gaussians"].get<std::size_t>(), r.num_removed, o_.out_dir.c_str());
     return 0;

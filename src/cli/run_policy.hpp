@@ -7,10 +7,16 @@
 
 namespace al::cli {
 
-// --max-memory on every subcommand; --force where the subcommand writes --out.
-void AddRunPolicyFlags(CLI::App& sub, std::string& max_memory, bool& force);
-// After parsing: the memory limit and the --force default of every output set.
-void ApplyRunPolicy(const std::string& max_memory, bool force);
+struct RunPolicyFlags {
+  std::string max_memory;
+  bool force = false;
+  bool no_wait = false;
+};
+// --max-memory on every subcommand; --force and --no-wait where the subcommand writes --out.
+void AddRunPolicyFlags(CLI::App& sub, RunPolicyFlags& flags);
+// After parsing: the memory limit and the --force / --no-wait defaults of every output set, whose
+// notices (waiting for the lock, look-alike folders left alone) go to stderr.
+void ApplyRunPolicy(const RunPolicyFlags& flags);
 // std::set_new_handler target: exit 2 with a message, never 4 (see run_policy.cpp).
 void OnOutOfMemory();
 

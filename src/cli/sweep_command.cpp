@@ -6,6 +6,7 @@
 #include "al/core/error.hpp"
 #include "al/refine/sweep.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/warnings.hpp"
 #include "src/cli/refine_flags.hpp"
 
 namespace al::cli {
@@ -74,8 +75,7 @@ class SweepCommand : public Command {
               << " in shard " << o.shard.ToString() << " of " << r.total << " (" << r.graphs_built
               << " graphs built, " << r.empty_graphs << " empty graphs)\n";
     for (const auto& c : r.report["outputs"]["charts"]) std::cout << "chart " << out_ << "/" << c.get<std::string>() << "\n";
-    for (const auto& s : r.report["outputs"]["skipped_charts"])
-      std::cerr << "chart " << s["name"].get<std::string>() << " skipped: " << s["reason"].get<std::string>() << "\n";
+    PrintReportWarnings(r.report);
     if (o.shard.count > 1) std::cout << "charts: drawn by `al-refine merge` over all shards\n";
     std::cout << "wrote " << out_ << "/results.jsonl, results.csv, report.json\n";
     return 0;

@@ -24,9 +24,12 @@ const char* Kind(mode_t mode) {
 
 }  // namespace
 
-int OpenRegularFile(const std::string& path) {
+int OpenRegularFile(const std::string& path, Links links) {
   // O_NONBLOCK: opening a FIFO with no writer would otherwise wait for one for ever.
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK);
+  const int flags = O_RDONLY | O_CLOEXEC | O_NONBLOCK | (links == Links::kRefuse ? O_NOFOLLOW : 0);
+  const int fd = ::open(path.c_str(), flags);
+  if (fd < 0 && errno == ELOOP && links == Links::kRefuse)
+    throw FileError(path, "is a symbolic link; al-refine does not follow links inside its output folders");
   if (fd < 0) throw FileError(path, std::string("cannot open: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
@@ -38,8 +41,8 @@ int OpenRegularFile(const std::string& path) {
   return fd;
 }
 
-std::string ReadInputFile(const std::string& path, std::uint64_t max_bytes) {
-  const int fd = OpenRegularFile(path);
+std::string ReadInputFile(const std::string& path, std::uint64_t max_bytes, Links links) {
+  const int fd = OpenRegularFile(path, links);
   struct stat st {};
   ::fstat(fd, &st);
   const std::uint64_t size = static_cast<std::uint64_t>(st.st_size);

@@ -1,8 +1,13 @@
 // Manifests of output sets: what a run wrote (BuildManifest), what an earlier run owns
 // (ReadOwnership) and whether a folder still holds what its report says (VerifyOutputSet).
-#include <fstream>
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 #include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
 #include "src/core/output_set_internal.hpp"
@@ -19,11 +24,13 @@ std::string Relative(const fs::path& file, const fs::path& root) {
 
 std::string TopOf(const std::string& rel) { return rel.substr(0, rel.find('/')); }
 
-std::optional<nlohmann::json> ReadJson(const fs::path& file) {
-  std::ifstream in(file);
-  if (!in) return std::nullopt;
+// report.json of an output folder: read only when it is a regular file (a FIFO planted there
+// must not block) of this user (a neighbour's forged manifest owns nothing), never through a link.
+std::optional<nlohmann::json> ReadReport(const fs::path& file, bool only_ours) {
+  const auto st = StatAt(AT_FDCWD, file.string());
+  if (!st || !S_ISREG(st->st_mode) || (only_ours && st->st_uid != ::geteuid())) return std::nullopt;
   try {
-    return nlohmann::json::parse(in);
+    return nlohmann::json::parse(ReadInputFile(file.string(), std::uint64_t(1) << 30, Links::kRefuse));
   } catch (const std::exception&) {
     return std::nullopt;
   }
@@ -31,20 +38,20 @@ std::optional<nlohmann::json> ReadJson(const fs::path& file) {
 
 }  // namespace
 
-std::vector<std::string> Entries(const fs::path& dir) {
-  std::vector<std::string> names;
-  std::error_code ec;
-  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
-    const std::string n = it->path().filename().string();
-    if (!IsControlFile(n)) names.push_back(n);
-  }
-  std::sort(names.begin(), names.end());
+std::vector<std::string> EntriesAt(int dirfd) {
+  std::vector<std::string> names = NamesAt(dirfd);
+  names.erase(std::remove_if(names.begin(), names.end(), IsControlFile), names.end());
   return names;
+}
+
+std::vector<std::string> Entries(const fs::path& dir) {
+  const UniqueFd fd = OpenFolder(dir);
+  return fd ? EntriesAt(fd.get()) : std::vector<std::string>{};
 }
 
 Ownership ReadOwnership(const fs::path& out) {
   Ownership own;
-  const auto report = ReadJson(out / "report.json");
+  const auto report = ReadReport(out / "report.json", /*only_ours=*/true);
   if (!report || !report->is_object() || !report->contains("command") || !report->contains("version")) return own;
   own.report_is_ours = true;
   const auto manifest = report->find("manifest");
@@ -59,15 +66,27 @@ Ownership ReadOwnership(const fs::path& out) {
   return own;
 }
 
+namespace {
+
+// A file the manifest lists that is still what al-refine wrote there: a regular file of this user.
+bool OwnedFile(const Ownership& own, const fs::path& out, const fs::path& file) {
+  const auto st = StatAt(AT_FDCWD, file.string());
+  return st && S_ISREG(st->st_mode) && st->st_uid == ::geteuid() && own.files.count(Relative(file, out));
+}
+
+}  // namespace
+
 bool Owned(const Ownership& own, const fs::path& out, const std::string& top) {
-  if (top == "report.json") return own.report_is_ours;
-  if (own.files.count(top) || own.journals.count(top)) return true;
   const fs::path entry = out / top;
+  const auto st = StatAt(AT_FDCWD, entry.string());
+  if (!st || st->st_uid != ::geteuid() || S_ISLNK(st->st_mode)) return false;
+  if (top == "report.json") return own.report_is_ours && S_ISREG(st->st_mode);
+  if (S_ISREG(st->st_mode)) return own.files.count(top) || own.journals.count(top);
+  if (!S_ISDIR(st->st_mode)) return false;
   std::error_code ec;
-  if (fs::is_symlink(entry, ec) || !fs::is_directory(entry, ec)) return false;
   for (fs::recursive_directory_iterator it(entry, ec), end; !ec && it != end; it.increment(ec)) {
     if (it->is_directory(ec) && !it->is_symlink(ec)) continue;
-    if (!own.files.count(Relative(it->path(), out))) return false;
+    if (!OwnedFile(own, out, it->path())) return false;
   }
   return !ec;
 }
@@ -93,7 +112,7 @@ nlohmann::json BuildManifest(const fs::path& staging, const fs::path& out, const
     const auto bytes = fs::file_size(out / name, ec);
     if (ec) continue;
     nlohmann::json f = {{"path", name}, {"bytes", bytes}, {"append_only", true}};
-    if (bytes <= kHashLimit) f["sha256"] = Sha256File(out / name, bytes);
+    if (bytes <= kHashLimit) f["sha256"] = Sha256File(out / name, bytes, Links::kRefuse);
     list.push_back(std::move(f));
   }
   return {{"version", 1}, {"files", list},
@@ -115,6 +134,27 @@ bool SafeRelative(const std::string& rel) {
   return true;
 }
 
+// A folder on the way to dir/rel is a link: the file is not where al-refine wrote it.
+bool ThroughLink(const fs::path& dir, const std::string& rel) {
+  fs::path at = dir;
+  const fs::path parts(rel);
+  for (auto it = parts.begin(); it != parts.end() && std::next(it) != parts.end(); ++it) {
+    at /= *it;
+    const auto st = StatAt(AT_FDCWD, at.string());
+    if (st && S_ISLNK(st->st_mode)) return true;
+  }
+  return false;
+}
+
+// The file's hash, "" when it cannot be read as a regular file any more (swapped meanwhile).
+std::string HashOrEmpty(const fs::path& file, std::uintmax_t bytes) {
+  try {
+    return Sha256File(file, bytes, Links::kRefuse);
+  } catch (const Error&) {
+    return "";
+  }
+}
+
 // Problems of one manifest entry (none when the file is as listed).
 void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& status, bool& grown) {
   if (!f.is_object() || !f.contains("path") || !f["path"].is_string() ||
@@ -128,6 +168,10 @@ void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& s
   const std::uintmax_t bytes =
       bytes_field != f.end() && bytes_field->is_number_unsigned() ? bytes_field->get<std::uintmax_t>() : 0;
   std::error_code ec;
+  if (ThroughLink(dir, rel)) {
+    status.problems.push_back(rel + ": reached through a symbolic link (not what al-refine wrote)");
+    return;
+  }
   if (!fs::is_regular_file(fs::symlink_status(dir / rel, ec))) {  // never hash a FIFO or a device
     status.problems.push_back(rel + ": missing");
     return;
@@ -142,7 +186,7 @@ void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& s
     return;
   }
   const auto sha = f.find("sha256");
-  if (sha != f.end() && (!sha->is_string() || Sha256File(dir / rel, bytes) != sha->get<std::string>())) {
+  if (sha != f.end() && (!sha->is_string() || HashOrEmpty(dir / rel, bytes) != sha->get<std::string>())) {
     status.problems.push_back(rel + ": content differs from the manifest (SHA-256)");
     return;
   }
@@ -152,21 +196,52 @@ void CheckEntry(const fs::path& dir, const nlohmann::json& f, OutputSetStatus& s
 }  // namespace
 
 nlohmann::json OutputSetStatus::ToJson() const {
-  return {{"state", state}, {"command", command}, {"files", files}, {"problems", problems}};
+  return {{"state", state}, {"command", command}, {"files", files}, {"problems", problems}, {"notes", notes}};
 }
+
+namespace {
+
+// What the lock beside the folder (or inside it, for a set staged there) records: a writer at
+// work now, an interrupted commit, a killed run's staging; and the look-alikes nobody recorded.
+// True when a recorded commit was interrupted.
+bool CheckTransactions(const fs::path& abs, OutputSetStatus& status) {
+  bool interrupted = false;
+  const std::pair<fs::path, std::string> places[] = {{abs.parent_path(), "." + abs.filename().string() + "."},
+                                                     {abs, "."}};
+  for (const auto& [dir, prefix] : places) {
+    const TransactionNames names{prefix};
+    const UniqueFd fd = OpenFolder(dir);
+    if (!fd) continue;
+    bool busy = false;
+    const auto record = PeekLock(fd.get(), names.Lock(), busy);
+    if (busy)
+      status.notes.push_back("an al-refine run is writing into it now" +
+                             (record ? " (pid " + std::to_string(record->pid) + ")" : std::string()));
+    if (record && !busy && !record->commit.empty() && IsOwnFolderAt(fd.get(), record->commit)) {
+      status.problems.push_back(record->commit + ": a commit was interrupted; the next run into this folder finishes it");
+      interrupted = true;
+    }
+    if (record && !busy && !record->staging.empty() && IsOwnFolderAt(fd.get(), record->staging))
+      status.problems.push_back(record->staging + ": staging of a killed run; the next run into this folder removes it");
+    for (const auto& n : LookAlikes(dir, names))
+      if (!record || (n != record->staging && n != record->commit))
+        status.notes.push_back(n + ": looks like al-refine's bookkeeping, but no al-refine run recorded it; left alone");
+  }
+  return interrupted;
+}
+
+}  // namespace
 
 OutputSetStatus VerifyOutputSet(const fs::path& dir) {
   const fs::path abs = fs::weakly_canonical(fs::absolute(dir));
-  std::vector<std::string> stale;
-  for (const Stale& s : FindTransactions(abs.parent_path(), abs.filename().string()))
-    if (s.commit || !ProcessAlive(s.pid))
-      stale.push_back(s.path.filename().string() + ": " +
-                      (s.commit ? "a commit was interrupted; the next run into this folder finishes it"
-                                : "staging of a killed run; the next run into this folder removes it"));
-  const auto report = ReadJson(abs / "report.json");
+  const auto report = ReadReport(abs / "report.json", /*only_ours=*/false);
   OutputSetStatus status = VerifyManifest(report ? report->dump() : std::string(), abs);
-  if (!report && !stale.empty()) status.state = "incomplete";
-  status.problems.insert(status.problems.end(), stale.begin(), stale.end());
+  const auto st = StatAt(AT_FDCWD, (abs / "report.json").string());
+  if (st && !S_ISREG(st->st_mode)) status.problems.back() = "report.json is not a regular file";
+  OutputSetStatus transactions;
+  if (CheckTransactions(abs, transactions) && !report) status.state = "incomplete";
+  status.problems.insert(status.problems.end(), transactions.problems.begin(), transactions.problems.end());
+  status.notes = transactions.notes;
   return status;
 }
 

@@ -1,6 +1,8 @@
-// OutputSet (al/core/output_set.hpp): the checks before computing and the commit.
+// OutputSet (al/core/output_set.hpp): the lock and the checks before computing (the commit is in
+// output_commit.cpp).
 #include "al/core/output_set.hpp"
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
@@ -12,6 +14,7 @@
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/interrupts.hpp"
 #include "al/core/report.hpp"
 #include "src/core/output_set_internal.hpp"
 
@@ -21,13 +24,15 @@ namespace {
 using namespace output_set;
 
 bool g_force_outputs = false;
+bool g_wait_for_outputs = true;
+std::function<void(const std::string&)>& NoticeSink() {
+  static std::function<void(const std::string&)> sink;
+  return sink;
+}
+
 std::set<fs::path>& ActiveSets() {  // one staging folder per --out and process
   static std::set<fs::path> active;
   return active;
-}
-
-bool Contains(const std::vector<std::string>& v, const std::string& s) {
-  return std::find(v.begin(), v.end(), s) != v.end();
 }
 
 // Canonical absolute form (symlinks resolved where the path exists).
@@ -86,25 +91,6 @@ bool CheckWritable(const fs::path& out, const fs::path& parent, const std::strin
   return false;
 }
 
-// Removes killed runs' staging, finishes their commits; returns the journals they had claimed.
-std::vector<std::string> Recover(const fs::path& parent, const std::string& name, const fs::path& out) {
-  std::vector<std::string> claimed;
-  DirLock lock(parent);
-  for (const Stale& s : FindTransactions(parent, name)) {
-    if (ProcessAlive(s.pid) || s.pid == ::getpid()) continue;
-    if (s.commit) {
-      RollForward(s.path, out);
-      continue;
-    }
-    std::ifstream in(s.path / kJournalClaims);
-    for (std::string line; std::getline(in, line);)
-      if (!line.empty()) claimed.push_back(line);
-    std::error_code ec;
-    fs::remove_all(s.path, ec);
-  }
-  return claimed;
-}
-
 // An input inside --out whose top-level entry this run replaces would be lost: refuse it.
 void CheckInputs(const OutputSetOptions& o, const fs::path& out, const Ownership& own) {
   for (const auto& input : o.inputs) {
@@ -125,6 +111,14 @@ void CheckInputs(const OutputSetOptions& o, const fs::path& out, const Ownership
   }
 }
 
+}  // namespace
+
+namespace output_set {
+
+bool Contains(const std::vector<std::string>& v, const std::string& s) {
+  return std::find(v.begin(), v.end(), s) != v.end();
+}
+
 std::string ForeignMessage(const std::string& flag, const fs::path& out, const std::vector<std::string>& names) {
   std::string list;
   for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
@@ -133,48 +127,35 @@ std::string ForeignMessage(const std::string& flag, const fs::path& out, const s
          "(choose another " + flag + ", move it away, or pass --force)";
 }
 
+// " (a FIFO)" for what is not a file or a folder: why the name is not al-refine's is then plain.
+std::string KindOf(const struct stat& st) {
+  if (S_ISLNK(st.st_mode)) return " (a symbolic link)";
+  if (S_ISFIFO(st.st_mode)) return " (a FIFO)";
+  if (S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode)) return " (a device)";
+  if (S_ISSOCK(st.st_mode)) return " (a socket)";
+  if (st.st_uid != ::geteuid()) return " (another user's)";
+  return "";
+}
+
 std::vector<std::string> ForeignCollisions(const std::vector<std::string>& names, const fs::path& out,
                                            const Ownership& own) {
   std::vector<std::string> foreign;
-  std::error_code ec;
   for (const auto& n : names)
-    if (fs::symlink_status(out / n, ec).type() != fs::file_type::not_found && !Owned(own, out, n))
-      foreign.push_back(n);
+    if (const auto st = StatAt(AT_FDCWD, (out / n).string()); st && !Owned(own, out, n))
+      foreign.push_back(n + KindOf(*st));
   return foreign;
 }
 
-// Sets nested in this one (demo's refine_bk/, ...) name their inputs and outputs by staging paths;
-// after the commit those live under --out, so their reports are made to say so.
-void RewriteNestedReports(const fs::path& staging, const fs::path& out) {
-  const std::string from = nlohmann::json(staging.string()).dump(), to = nlohmann::json(out.string()).dump();
-  const std::string from_body = from.substr(1, from.size() - 2), to_body = to.substr(1, to.size() - 2);
-  for (fs::recursive_directory_iterator it(staging), end; it != end; ++it) {
-    if (it->path().filename() != "report.json" || it->path().parent_path() == staging) continue;
-    std::ifstream in(it->path(), std::ios::binary);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    bool changed = false;
-    for (std::size_t at = text.find(from_body); at != std::string::npos; at = text.find(from_body, at + to_body.size())) {
-      text.replace(at, from_body.size(), to_body);
-      changed = true;
-    }
-    if (changed) WriteFileAtomically(it->path(), text);
-  }
-}
-
-// A shell sitting in --out (or below it) would be left in the deleted old folder by an exchange.
-bool InsideCwd(const fs::path& out) {
-  std::error_code ec;
-  const fs::path rel = Canonical(fs::current_path(ec)).lexically_relative(out);
-  return !ec && !rel.empty() && *rel.begin() != "..";
-}
-
-}  // namespace
+}  // namespace output_set
 
 void SetForceOutputs(bool force) { g_force_outputs = force; }
 bool ForceOutputs() { return g_force_outputs; }
+void SetWaitForOutputs(bool wait) { g_wait_for_outputs = wait; }
+void SetOutputNotices(std::function<void(const std::string&)> notice) { NoticeSink() = std::move(notice); }
 
 OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(std::move(options)) {
   options_.force = options_.force || g_force_outputs;
+  options_.wait = options_.wait && g_wait_for_outputs;
   if (out.empty()) throw Error(options_.flag + " is required", ExitCode::kUsage);
   out_ = Canonical(out);
   parent_ = out_.parent_path();
@@ -187,16 +168,25 @@ OutputSet::OutputSet(const fs::path& out, OutputSetOptions options) : options_(s
   try {
     Open(out);
   } catch (...) {
-    RemoveEmptyFolders(created_parents_);
+    Abandon();
     throw;
   }
   ActiveSets().insert(out_);
 }
 
-// The constructor's checks after --out's parent exists, and the staging folder.
+// The lock (waiting for another writer), what an earlier run left, the checks, the staging folder.
 void OutputSet::Open(const fs::path& out) {
-  for (auto& name : Recover(parent_, name_, out_))  // a claim counts only for this run's own journals
-    if (Contains(options_.journals, name)) adopted_journals_.push_back(std::move(name));
+  txn_ = std::make_unique<OutputTransaction>();
+  txn_->dir_path = inside_ ? out_ : parent_;
+  txn_->names.prefix = inside_ ? "." : "." + name_ + ".";
+  txn_->dir = OpenFolder(txn_->dir_path);
+  if (!txn_->dir)
+    throw FileError(txn_->dir_path.string(), std::string("cannot open the folder of ") + options_.flag + ": " +
+                                                 std::strerror(errno));
+  txn_->lock = std::make_unique<OutputLock>(txn_->dir.get(), txn_->names.Lock(), txn_->dir_path / txn_->names.Lock(),
+                                            out_, options_.wait, NoticeSink());
+  RecoverPrevious();
+  NoteLookAlikes();
   Ownership own = ReadOwnership(out_);
   own.journals.insert(adopted_journals_.begin(), adopted_journals_.end());
   CheckInputs(options_, out_, own);
@@ -204,71 +194,68 @@ void OutputSet::Open(const fs::path& out) {
   names.insert(names.end(), options_.journals.begin(), options_.journals.end());
   const auto foreign = ForeignCollisions(names, out_, own);
   if (!foreign.empty() && !options_.force) throw Error(ForeignMessage(options_.flag, out_, foreign));
-  staging_ = TransactionPath("al-staging-");
-  std::error_code ec;
-  fs::remove_all(staging_, ec);
-  if (!fs::create_directory(staging_, ec) || ec)
-    throw Error(options_.flag + " " + out.string() + ": cannot create staging folder " +
-                staging_.string() + ": " + ec.message());
+  CreateStaging();
+}
+
+// What the lock's record says the previous holder (killed, or failed) left: its commit is
+// finished, its staging removed, its journals adopted (this run's names) or carried on (others).
+// Only recorded names are touched, and only when they are this user's real folders.
+void OutputSet::RecoverPrevious() {
+  const auto& previous = txn_->lock->previous();
+  if (!previous) return;
+  const int dir = txn_->dir.get();
+  if (!previous->commit.empty() && IsOwnFolderAt(dir, previous->commit))
+    RollForward(dir, txn_->dir_path, previous->commit, out_);
+  if (!previous->staging.empty() && IsOwnFolderAt(dir, previous->staging)) RemoveTreeAt(dir, previous->staging);
+  for (const auto& journal : previous->journals) {
+    if (!IsOwnFileAt(AT_FDCWD, (out_ / journal).string()) || Contains(txn_->claims, journal)) continue;
+    txn_->claims.push_back(journal);
+    if (Contains(options_.journals, journal)) adopted_journals_.push_back(journal);
+  }
+}
+
+void OutputSet::NoteLookAlikes() {
+  for (const auto& name : LookAlikes(txn_->dir_path, txn_->names)) {
+    warnings_.push_back("left alone: " + (txn_->dir_path / name).string() +
+                        " looks like al-refine's bookkeeping for " + out_.string() +
+                        ", but no al-refine run recorded it (a neighbour's, or an older al-refine's); "
+                        "remove it yourself if it is yours");
+    if (NoticeSink()) NoticeSink()(warnings_.back());
+  }
+}
+
+// ".NAME.al-staging-PID-TOKEN", recorded in the lock before it exists and made with mkdir (a name
+// that exists already, planted or not, is never used: another token is drawn).
+void OutputSet::CreateStaging() {
+  const int dir = txn_->dir.get();
+  for (int attempt = 0;; ++attempt) {
+    const std::string claim = std::to_string(::getpid()) + "-" + RandomToken();
+    txn_->staging_name = txn_->names.Staging(claim);
+    txn_->commit_name = txn_->names.Commit(claim);
+    txn_->RecordNow();
+    if (::mkdirat(dir, txn_->staging_name.c_str(), 0700) == 0) break;
+    if (errno != EEXIST || attempt == 8)
+      throw FileError((txn_->dir_path / txn_->staging_name).string(),
+                      std::string("cannot create the staging folder: ") + std::strerror(errno));
+  }
+  staging_ = txn_->dir_path / txn_->staging_name;
+  txn_->interrupt_handle =
+      RegisterInterruptFolder(dir, txn_->staging_name, txn_->claims.empty() ? txn_->names.Lock() : "");
 }
 
 OutputSet::~OutputSet() {
   ActiveSets().erase(out_);
-  std::error_code ec;
-  if (committed_) return;
-  fs::remove_all(staging_, ec);
+  if (!committed_) Abandon();
+}
+
+void OutputSet::Abandon() {
+  if (txn_) {
+    if (txn_->interrupt_handle) UnregisterInterruptFolder(txn_->interrupt_handle);
+    if (!txn_->staging_name.empty()) RemoveTreeAt(txn_->dir.get(), txn_->staging_name);
+    txn_->Finish(out_, {});
+    txn_.reset();
+  }
   RemoveEmptyFolders(created_parents_);  // a refused or failed run leaves no new folders behind
-}
-
-fs::path OutputSet::TransactionPath(const std::string& kind) const {
-  const std::string pid = std::to_string(::getpid());
-  return inside_ ? out_ / ("." + kind + pid) : parent_ / ("." + name_ + "." + kind + pid);
-}
-
-fs::path OutputSet::Journal(const std::string& name) {
-  if (!Contains(options_.journals, name)) options_.journals.push_back(name);
-  EnsureDirectory(out_);
-  std::string claims;
-  for (const auto& j : options_.journals) claims += j + "\n";
-  WriteFileAtomically(staging_ / kJournalClaims, claims);
-  return out_ / name;
-}
-
-nlohmann::json OutputSet::Commit(nlohmann::json report) {
-  if (committed_) throw Error(options_.flag + " " + out_.string() + ": output set committed twice", ExitCode::kInternal);
-  RewriteNestedReports(staging_, out_);
-  report["manifest"] = BuildManifest(staging_, out_, options_.journals);
-  WriteReport(staging_, report);
-  DirLock lock(parent_);
-  Ownership own = ReadOwnership(out_);
-  own.journals.insert(adopted_journals_.begin(), adopted_journals_.end());
-  own.journals.insert(options_.journals.begin(), options_.journals.end());
-  const std::vector<std::string> staged = Entries(staging_);
-  const auto foreign = ForeignCollisions(staged, out_, own);
-  if (!foreign.empty() && !options_.force) throw Error(ForeignMessage(options_.flag, out_, foreign));
-  std::vector<std::string> kept_foreign, old_owned;
-  const std::vector<std::string> present = Entries(out_);
-  for (const auto& n : present) {
-    if (Contains(staged, n) || own.journals.count(n)) continue;
-    (Owned(own, out_, n) ? old_owned : kept_foreign).push_back(n);
-  }
-  std::error_code ec;
-  if (!fs::exists(out_)) {
-    fs::rename(staging_, out_, ec);
-    if (ec) throw FileError(out_.string(), "cannot move the output set into place: " + ec.message());
-  } else if (inside_ || !kept_foreign.empty() || InsideCwd(out_) ||
-             !TryExchange(staging_, out_, options_.journals, present)) {
-    // Foreign files stay where they are: entries move one by one from a committed journal folder.
-    std::string removals;
-    for (const auto& n : old_owned) removals += n + "\n";
-    WriteFileAtomically(staging_ / kRemoveList, removals);
-    const fs::path commit = TransactionPath("al-commit-");
-    fs::rename(staging_, commit, ec);
-    if (ec) throw FileError(out_.string(), "cannot commit the output set: " + ec.message());
-    RollForward(commit, out_);
-  }
-  committed_ = true;
-  return report;
 }
 
 }  // namespace al

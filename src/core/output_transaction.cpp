@@ -1,144 +1,126 @@
-// The filesystem steps of an output-set commit: finding killed runs' transaction folders, the
-// atomic exchange, and the journaled per-entry commit with its roll-forward.
+// The filesystem steps of an output-set commit: the atomic exchange, the journaled per-entry
+// commit with its roll-forward, and the look-alike folders left alone. Everything acts through
+// descriptors on folders this run (or a recorded earlier run) made, never through a link.
 #include <fcntl.h>
-#include <signal.h>
 #include <stdio.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <fstream>
 #include <initializer_list>
 
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
+#include "src/core/folder_fd.hpp"
 #include "src/core/output_set_internal.hpp"
 
 namespace al::output_set {
 namespace {
 
-// "<digits>" -> pid, else 0.
-pid_t ParsePid(const std::string& s) {
-  if (s.empty() || s.size() > 9 || s.find_first_not_of("0123456789") != std::string::npos) return 0;
-  return static_cast<pid_t>(std::stol(s));
+[[noreturn]] void Fail(const fs::path& path, const std::string& what) {
+  throw FileError(path.string(), what + ": " + std::strerror(errno));
 }
 
-void Fail(const fs::path& path, const std::string& what, const std::error_code& ec) {
-  throw FileError(path.string(), what + ": " + ec.message());
+void RemoveOrThrow(int dirfd, const std::string& name, const fs::path& shown) {
+  if (!RemoveTreeAt(dirfd, name)) Fail(shown, "cannot remove (replacing an earlier al-refine output)");
 }
 
-void RemoveAllOrThrow(const fs::path& path) {
-  std::error_code ec;
-  fs::remove_all(path, ec);
-  if (ec) Fail(path, "cannot remove (replacing an earlier al-refine output)", ec);
+void MoveOrThrow(int from_fd, int to_fd, const std::string& name, const fs::path& shown) {
+  if (::renameat(from_fd, name.c_str(), to_fd, name.c_str()) != 0) Fail(shown, "cannot move output into place");
 }
 
-std::vector<std::string> ReadNames(const fs::path& file) {
+// The names in a commit folder's removal list (written by the run that made the folder).
+std::vector<std::string> RemovalList(int commit_fd) {
   std::vector<std::string> names;
-  std::ifstream in(file);
-  for (std::string line; std::getline(in, line);)
+  const int fd = ::openat(commit_fd, kRemoveList, O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return names;
+  std::string text;
+  char buffer[4096];
+  for (ssize_t got; (got = ::read(fd, buffer, sizeof buffer)) > 0;) text.append(buffer, static_cast<std::size_t>(got));
+  ::close(fd);
+  for (std::size_t at = 0; at < text.size();) {
+    const std::size_t nl = std::min(text.find('\n', at), text.size());
+    const std::string line = text.substr(at, nl - at);
     if (!line.empty() && line.find('/') == std::string::npos && line != "." && line != "..") names.push_back(line);
+    at = nl + 1;
+  }
   return names;
 }
 
 }  // namespace
 
-bool ProcessAlive(pid_t pid) {
-  if (pid <= 0) return true;  // unknown: keep
-  return ::kill(pid, 0) == 0 || errno == EPERM;
-}
-
-namespace {
-
-// Entries of `dir` named base + kind + PID.
-void FindIn(const fs::path& dir, const std::string& base, std::initializer_list<const char*> kinds, std::vector<Stale>& found) {
+std::vector<std::string> LookAlikes(const fs::path& dir, const TransactionNames& names) {
+  std::vector<std::string> found;
   std::error_code ec;
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string n = it->path().filename().string();
-    if (n.rfind(base, 0) != 0) continue;
-    const std::string rest = n.substr(base.size());
-    for (const char* kind : kinds) {
-      const std::string k = kind;
-      if (rest.rfind(k, 0) != 0) continue;
-      if (const pid_t pid = ParsePid(rest.substr(k.size())); pid > 0)
-        found.push_back({it->path(), pid, k == "al-commit-"});
-    }
+    if (n.rfind(names.prefix, 0) != 0) continue;
+    const std::string rest = n.substr(names.prefix.size());
+    for (const char* kind : {"al-staging-", "al-commit-", "eval-tmp-"})
+      if (rest.rfind(kind, 0) == 0 && rest.size() > std::strlen(kind)) found.push_back(n);
   }
-}
-
-}  // namespace
-
-std::vector<Stale> FindTransactions(const fs::path& parent, const std::string& name) {
-  std::vector<Stale> found;
-  FindIn(parent, "." + name + ".", {"al-staging-", "al-commit-", "eval-tmp-"}, found);
-  FindIn(parent / name, ".", {"al-staging-", "al-commit-"}, found);  // staged inside --out (StagesInside)
-  std::sort(found.begin(), found.end(), [](const Stale& a, const Stale& b) { return a.path < b.path; });
+  std::sort(found.begin(), found.end());
   return found;
 }
 
-void RollForward(const fs::path& commit_dir, const fs::path& out) {
+void RollForward(int dirfd, const fs::path& dir, const std::string& commit_name, const fs::path& out) {
+  const fs::path shown = dir / commit_name;
+  const UniqueFd commit = OpenFolderAt(dirfd, commit_name);
+  if (!commit) Fail(shown, "cannot open the commit folder");
   std::error_code ec;
   fs::create_directories(out, ec);
-  if (ec) Fail(out, "cannot create output folder", ec);
+  const UniqueFd target = OpenFolder(out);
+  if (!target) Fail(out, "cannot open the output folder");
   // The old report goes first: from here until the new one lands, a reader sees no report.json
   // and knows the folder is in transition.
-  if (fs::exists(commit_dir / "report.json") && fs::exists(out / "report.json")) RemoveAllOrThrow(out / "report.json");
-  for (const auto& name : ReadNames(commit_dir / kRemoveList)) RemoveAllOrThrow(out / name);
-  for (const auto& name : Entries(commit_dir)) {
+  const bool has_report = StatAt(commit.get(), "report.json").has_value();
+  if (has_report) RemoveOrThrow(target.get(), "report.json", out / "report.json");
+  for (const auto& name : RemovalList(commit.get())) RemoveOrThrow(target.get(), name, out / name);
+  for (const auto& name : EntriesAt(commit.get())) {
     if (name == "report.json") continue;
-    RemoveAllOrThrow(out / name);
-    fs::rename(commit_dir / name, out / name, ec);
-    if (ec) Fail(out / name, "cannot move output into place", ec);
+    RemoveOrThrow(target.get(), name, out / name);
+    MoveOrThrow(commit.get(), target.get(), name, out / name);
   }
-  if (fs::exists(commit_dir / "report.json")) {
-    fs::rename(commit_dir / "report.json", out / "report.json", ec);
-    if (ec) Fail(out / "report.json", "cannot move output into place", ec);
-  }
-  fs::remove_all(commit_dir, ec);
+  if (has_report) MoveOrThrow(commit.get(), target.get(), "report.json", out / "report.json");
+  RemoveTreeAt(dirfd, commit_name);
 }
 
-bool TryExchange(const fs::path& staging, const fs::path& out, const std::vector<std::string>& journals,
+bool TryExchange(int dirfd, const std::string& staging, const fs::path& out, const std::vector<std::string>& journals,
                  const std::vector<std::string>& replaced) {
-  std::vector<fs::path> links;  // journals enter the new set as hard links: a kill never loses them
+  const std::string out_name = out.filename().string();
+  const UniqueFd old_fd = OpenFolderAt(dirfd, out_name), new_fd = OpenFolderAt(dirfd, staging);
+  if (!old_fd || !new_fd) return false;
+  std::vector<std::string> links;  // journals enter the new set as hard links: a kill never loses them
   bool linked = true;
   for (const auto& j : journals) {
-    if (!fs::exists(out / j) || fs::exists(staging / j)) continue;
-    linked = linked && ::link((out / j).c_str(), (staging / j).c_str()) == 0;
-    if (linked) links.push_back(staging / j);
+    if (!IsOwnFileAt(old_fd.get(), j) || StatAt(new_fd.get(), j)) continue;
+    linked = linked && ::linkat(old_fd.get(), j.c_str(), new_fd.get(), j.c_str(), 0) == 0;
+    if (linked) links.push_back(j);
   }
   struct stat st {};
-  if (::stat(out.c_str(), &st) == 0) ::chmod(staging.c_str(), st.st_mode & 07777);
-  if (!linked || ::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, out.c_str(), RENAME_EXCHANGE) != 0) {
-    for (const auto& l : links) ::unlink(l.c_str());
+  if (::fstat(old_fd.get(), &st) == 0) ::fchmod(new_fd.get(), st.st_mode & 07777);
+  if (!linked || ::renameat2(dirfd, staging.c_str(), dirfd, out_name.c_str(), RENAME_EXCHANGE) != 0) {
+    for (const auto& l : links) ::unlinkat(new_fd.get(), l.c_str(), 0);
     return false;
   }
-  // `staging` now holds the previous set. Anything the commit did not decide to replace appeared
-  // during the commit: move it back rather than delete what al-refine did not write.
+  // old_fd (now named `staging`) holds the previous set. Anything the commit did not decide to
+  // replace appeared during the commit: move it back rather than delete what al-refine did not write.
   bool kept_foreign = false;
-  for (const auto& name : Entries(staging)) {
+  for (const auto& name : EntriesAt(old_fd.get())) {
     if (std::count(replaced.begin(), replaced.end(), name) || std::count(journals.begin(), journals.end(), name))
       continue;
-    std::error_code ec;
-    if (!fs::exists(out / name)) fs::rename(staging / name, out / name, ec);
-    kept_foreign |= fs::exists(staging / name);
+    if (!StatAt(new_fd.get(), name)) ::renameat(old_fd.get(), name.c_str(), new_fd.get(), name.c_str());
+    kept_foreign |= StatAt(old_fd.get(), name).has_value();
   }
-  std::error_code ec;
   if (kept_foreign) {
-    fs::rename(staging, fs::path(out.string() + ".al-kept-" + std::to_string(::getpid())), ec);
+    const std::string kept = out_name + ".al-kept-" + RandomToken();
+    ::renameat2(dirfd, staging.c_str(), dirfd, kept.c_str(), RENAME_NOREPLACE);
   } else {
-    fs::remove_all(staging, ec);
+    RemoveTreeAt(dirfd, staging);
   }
   return true;
-}
-
-DirLock::DirLock(const fs::path& dir) {
-  fd_ = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (fd_ >= 0) ::flock(fd_, LOCK_EX);
-}
-
-DirLock::~DirLock() {
-  if (fd_ >= 0) ::close(fd_);
 }
 
 }  // namespace al::output_set

@@ -2,13 +2,16 @@
 
 #include <openssl/evp.h>
 #include <sys/resource.h>
+#include <unistd.h>
+
+#include <cerrno>
 
 #include <algorithm>
 #include <array>
-#include <fstream>
 
 #include "al/core/atomic_file.hpp"
 #include "al/core/error.hpp"
+#include "al/core/input_file.hpp"
 
 namespace al {
 
@@ -23,18 +26,19 @@ nlohmann::json NewReport(const std::string& command) {
           {"warnings", nlohmann::json::array()}};
 }
 
-std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw FileError(path.string(), "cannot open for reading");
+std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes, Links links) {
+  const int fd = OpenRegularFile(path.string(), links);  // a FIFO or a device is refused, never read
   EVP_MD_CTX* ctx = EVP_MD_CTX_new();
   EVP_DigestInit_ex(ctx, EVP_sha256(), nullptr);
   std::array<char, 1 << 16> buffer;
-  std::uintmax_t left = max_bytes;
-  while (in && left > 0) {
-    in.read(buffer.data(), static_cast<std::streamsize>(std::min<std::uintmax_t>(buffer.size(), left)));
-    if (in.gcount() > 0) EVP_DigestUpdate(ctx, buffer.data(), static_cast<std::size_t>(in.gcount()));
-    left -= static_cast<std::uintmax_t>(std::max<std::streamsize>(0, in.gcount()));
+  for (std::uintmax_t left = max_bytes; left > 0;) {
+    const ssize_t got = ::read(fd, buffer.data(), static_cast<std::size_t>(std::min<std::uintmax_t>(buffer.size(), left)));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) break;
+    EVP_DigestUpdate(ctx, buffer.data(), static_cast<std::size_t>(got));
+    left -= static_cast<std::uintmax_t>(got);
   }
+  ::close(fd);
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int length = 0;
   EVP_DigestFinal_ex(ctx, digest, &length);

@@ -78,11 +78,14 @@ nlohmann::json At(const nlohmann::json& j, const char* pointer) {
 
 }  // namespace
 
-JsonlContents ReadResultsJsonl(const std::string& path) {
-  JsonlContents out;
+JsonlContents ReadResultsJsonl(const std::string& path, Links links) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) return out;
-  const std::string text = ReadInputFile(path);  // a FIFO or a folder is refused, never read
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) return {};
+  return ParseResultsJsonl(ReadInputFile(path, std::uint64_t(1) << 31, links), path);  // a FIFO is refused
+}
+
+JsonlContents ParseResultsJsonl(const std::string& text, const std::string& path) {
+  JsonlContents out;
   std::size_t pos = 0, line_no = 0;
   while (pos < text.size()) {
     ++line_no;

@@ -1,6 +1,11 @@
 // RunSweep (al/refine/sweep.hpp): the shard's points, each appended to results.jsonl as soon as it
 // is done; inputs loaded once per scene, one graph per (k, δ, hops, radius_scale), λ applied by
 // rescaling the λ = 1 weights.
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -96,10 +101,11 @@ nlohmann::json SweepParams(const SweepOptions& o) {
 }
 
 // A folder being resumed must belong to this sweep and shard (its shard.json): mixing two sweeps' points (or two binaries' results) in one folder would be merged as one.
-// An unsharded run may grow its grid (the documented way to add points).
-void CheckOutDir(const std::string& dir, const ShardInfo& info) {
-  if (fs::exists(fs::path(dir) / "shard.json")) {
-    const ShardInfo old = ReadShardInfo(dir);
+// An unsharded run may grow its grid (the documented way to add points): true then.
+bool CheckOutDir(const std::string& dir, const ShardInfo& info) {
+  std::error_code ec;
+  if (fs::exists(fs::symlink_status(fs::path(dir) / "shard.json", ec))) {
+    const ShardInfo old = ReadShardInfo(dir, Links::kRefuse);
     std::vector<std::string> diff = SweepDifferences(old, info);
     if (old.shard.index != info.shard.index && old.shard.count == info.shard.count)
       diff.insert(diff.begin(), "shard (" + old.shard.ToString() + " vs " + info.shard.ToString() + ")");
@@ -112,33 +118,84 @@ void CheckOutDir(const std::string& dir, const ShardInfo& info) {
                       "); use a fresh --out, or the same flags, shard and binary to resume it",
                   ExitCode::kBadInput);
     }
+    return !diff.empty();
+  }
+  return false;
+}
+
+// shard.json, the folder's identity: kept as a journal while it says what this run would write
+// (or written first thing when missing, so that a killed shard can still be merged), staged as a
+// whole when the grid grew, so the committed set is never rewritten in place before the commit.
+void ClaimShardInfo(OutputSet& set, const std::string& out_dir, const ShardInfo& info) {
+  if (CheckOutDir(out_dir, info)) {
+    set.StageInsteadOfJournal("shard.json");
+    WriteShardInfo(set.dir().string(), info);
+    return;
+  }
+  const fs::path path = set.Journal("shard.json");
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) WriteShardInfo(path.parent_path().string(), info);
+}
+
+// results.jsonl through the descriptor the output set opened (never a link, never a FIFO): the
+// ids it holds, and appends that fail loudly (a full disk is exit 2, not a silent loss).
+class ResultsFile {
+ public:
+  ResultsFile(int fd, fs::path path) : fd_(fd), path_(std::move(path)) {}
+  ~ResultsFile() { ::close(fd_); }
+  ResultsFile(const ResultsFile&) = delete;
+  ResultsFile& operator=(const ResultsFile&) = delete;
+  std::string ReadAll() const;
+  void Truncate(std::uintmax_t bytes) const;
+  void Append(const std::string& text) const;
+  std::set<std::string> done;
+
+ private:
+  int fd_;
+  fs::path path_;
+};
+
+std::string ResultsFile::ReadAll() const {
+  std::string text;
+  char buffer[1 << 16];
+  for (off_t at = 0;;) {
+    const ssize_t got = ::pread(fd_, buffer, sizeof buffer, at);
+    if (got < 0 && errno == EINTR) continue;
+    if (got < 0) throw FileError(path_.string(), std::string("cannot read: ") + std::strerror(errno));
+    if (got == 0) return text;
+    text.append(buffer, static_cast<std::size_t>(got));
+    at += got;
   }
 }
 
-// results.jsonl opened for appending after a killed run's half line is dropped; the ids it holds.
-struct ResultsFile {
-  std::ofstream out;
-  std::set<std::string> done;
-};
+void ResultsFile::Truncate(std::uintmax_t bytes) const {
+  if (::ftruncate(fd_, static_cast<off_t>(bytes)) != 0)
+    throw FileError(path_.string(), std::string("cannot cut off the truncated line: ") + std::strerror(errno));
+}
 
-ResultsFile OpenResults(const fs::path& jsonl, nlohmann::json& warnings) {
-  const JsonlContents existing = ReadResultsJsonl(jsonl.string());
+void ResultsFile::Append(const std::string& text) const {
+  for (std::size_t done_bytes = 0; done_bytes < text.size();) {
+    const ssize_t put = ::write(fd_, text.data() + done_bytes, text.size() - done_bytes);
+    if (put < 0 && errno == EINTR) continue;
+    if (put <= 0) throw FileError(path_.string(), std::string("write failed: ") + std::strerror(errno));
+    done_bytes += static_cast<std::size_t>(put);
+  }
+}
+
+// Opens results.jsonl after a killed run's half line is dropped; the ids it holds.
+std::unique_ptr<ResultsFile> OpenResults(OutputSet& set, nlohmann::json& warnings) {
+  auto f = std::make_unique<ResultsFile>(set.OpenJournal("results.jsonl"), set.out() / "results.jsonl");
+  const std::string text = f->ReadAll();
+  const JsonlContents existing = ParseResultsJsonl(text, (set.out() / "results.jsonl").string());
   if (existing.truncated_tail) {
     // Drop the half line of a killed run so the next append starts on a fresh line.
-    fs::resize_file(jsonl, existing.good_bytes);
-    warnings.push_back("results.jsonl ended in a truncated line (a killed run); it was dropped and that point re-run");
+    f->Truncate(existing.good_bytes);
+    warnings.push_back("results.jsonl ended in a truncated line (a killed or failed run); it was dropped and that "
+                       "point re-run");
   }
-  bool needs_newline = false;  // a complete last record without its newline (kept): end it first
-  if (!existing.truncated_tail && existing.good_bytes > 0) {
-    std::ifstream last(jsonl, std::ios::binary);
-    last.seekg(static_cast<std::streamoff>(existing.good_bytes) - 1);
-    needs_newline = last.get() != '\n';
-  }
-  ResultsFile f;
-  for (const auto& r : existing.records) f.done.insert(r["id"].get<std::string>());
-  f.out.open(jsonl, std::ios::app | std::ios::binary);
-  if (!f.out) throw FileError(jsonl.string(), "cannot open for appending");
-  if (needs_newline) f.out << '\n' << std::flush;
+  // A complete last record without its newline (kept): end it first.
+  if (!existing.truncated_tail && existing.good_bytes > 0 && text[existing.good_bytes - 1] != '\n') f->Append("\n");
+  for (const auto& r : existing.records) f->done.insert(r["id"].get<std::string>());
   return f;
 }
 
@@ -281,7 +338,7 @@ class PointRunner {
 // results.csv, charts (unsharded runs only) and report.json from every record of the folder.
 void FinishSweep(const SweepOptions& o, OutputSet& set, const fs::path& jsonl, SweepResult& result,
                  nlohmann::json& report, const Timer& total_timer, const nlohmann::json& load_seconds) {
-  std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string()).records;
+  std::vector<nlohmann::json> records = ReadResultsJsonl(jsonl.string(), Links::kRefuse).records;
   SortRecords(records);
   // A shard's charts would show only its slice: shards write the CSV, `merge` draws the charts.
   const nlohmann::json summaries = WriteSweepSummaries(set.dir().string(), records, /*charts=*/o.shard.count == 1);
@@ -311,34 +368,33 @@ SweepResult RunSweep(const SweepOptions& o) {
   for (std::size_t s = o.dry_run ? 0 : begin / P; s < o.scenes.size() && (o.dry_run || s * P < end); ++s)
     CheckInputsExist(o.scenes[s]);
   const ShardInfo info = MakeShardInfo(o);
-  if (fs::exists(o.out_dir)) CheckOutDir(o.out_dir, info);
-  if (o.dry_run) return result;
+  if (o.dry_run) {
+    if (fs::exists(o.out_dir)) CheckOutDir(o.out_dir, info);
+    return result;
+  }
 
-  OutputSet set(o.out_dir, SweepOutputSetOptions(o));
+  OutputSet set(o.out_dir, SweepOutputSetOptions(o));  // one writer at a time from here
   nlohmann::json report = NewReport("sweep");
   report["params"] = SweepParams(o);
-  WriteShardInfo(set.Journal("shard.json").parent_path().string(), info);
-  const fs::path jsonl = set.Journal("results.jsonl");
-  ResultsFile results = OpenResults(jsonl, report["warnings"]);
+  ClaimShardInfo(set, o.out_dir, info);
+  const fs::path jsonl = set.out() / "results.jsonl";
+  const auto results = OpenResults(set, report["warnings"]);
   PointRunner runner(o, report, set.dir() / ".al-eval-scratch");
   for (std::size_t j = begin; j < end; ++j) {
     const SweepPoint& p = points[j % P];
     SweepProgress progress{j - begin + 1, end - begin, nullptr, PointId(o.scenes[j / P].name, p)};
-    if (results.done.count(progress.id)) {
+    if (results->done.count(progress.id)) {
       ++result.already_done;
       if (o.on_point) o.on_point(progress);
       continue;
     }
     const nlohmann::json record = runner.Run(j / P, p, progress.id, *solvers.at(p.solver));
-    results.out << record.dump() << '\n';
-    results.out.flush();
-    if (!results.out) throw FileError(jsonl.string(), "write failed (disk full?)");
+    results->Append(record.dump() + "\n");
     ++result.ran;
     result.empty_graphs += record["status"] == "empty_graph";
     progress.record = &record;
     if (o.on_point) o.on_point(progress);
   }
-  results.out.close();
   result.graphs_built = runner.graphs_built();
   FinishSweep(o, set, jsonl, result, report, total_timer, runner.load_seconds());
   return result;

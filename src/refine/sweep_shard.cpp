@@ -153,13 +153,13 @@ ShardInfo MakeShardInfo(const SweepOptions& o) {
   return info;
 }
 
-ShardInfo ReadShardInfo(const std::string& dir) {
+ShardInfo ReadShardInfo(const std::string& dir, Links links) {
   const fs::path path = fs::path(dir) / "shard.json";
   std::error_code ec;
   if (!fs::exists(path, ec))
     throw Error(dir + ": no shard.json (not a sweep output, or written by an al-refine before shard.json; "
                 "rerun that shard with the same command to add it)", ExitCode::kBadInput);
-  const std::string text = ReadInputFile(path.string(), std::uint64_t(1) << 26);  // refuses a FIFO at once
+  const std::string text = ReadInputFile(path.string(), std::uint64_t(1) << 26, links);  // refuses a FIFO at once
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <fstream>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -11,6 +12,8 @@
 #include "al/core/error.hpp"
 #include "al/core/output_set.hpp"
 #include "al/core/report.hpp"
+#include "src/core/folder_fd.hpp"
+#include "src/core/output_lock.hpp"
 #include "test_data.hpp"
 
 namespace al {
@@ -52,6 +55,27 @@ pid_t DeadPid() {
   if (pid == 0) ::_exit(0);
   ::waitpid(pid, nullptr, 0);
   return pid;
+}
+
+// A run into `out` killed (no destructor, no commit) after `work` wrote into its staging.
+void KilledRun(const fs::path& out, OutputSetOptions o, const std::function<void(OutputSet&)>& work) {
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    OutputSet* set = new OutputSet(out, o);  // never destroyed: what SIGKILL leaves
+    work(*set);
+    ::_exit(0);
+  }
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
+}
+
+std::vector<std::string> Named(const fs::path& dir, const std::string& prefix) {
+  std::vector<std::string> found;
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().rfind(prefix, 0) == 0) found.push_back(e.path().filename().string());
+  std::sort(found.begin(), found.end());
+  return found;
 }
 
 TEST(OutputSet, CommitPublishesTheSetWithAManifestAndLeavesNothingBehind) {
@@ -157,56 +181,79 @@ TEST(OutputSet, AnOutThatIsAFileOrUnwritableIsRefusedAtOnce) {
   EXPECT_THROW(OutputSet("/", OutputSetOptions("test")), Error);
 }
 
-TEST(OutputSet, StagingOfKilledRunsIsCleanedOnlyWhenTheirProcessIsGone) {
+TEST(OutputSet, AKilledRunsStagingIsRemovedByTheNextRunAndLookAlikesAreLeftAlone) {
   const fs::path out = test::TempDir() / "out";
+  KilledRun(out, OutputSetOptions("test"), [](OutputSet& set) { Write(set.dir() / "a.txt", "half"); });
+  ASSERT_EQ(Named(out.parent_path(), ".out.al-staging-").size(), 1u);
+  // Look-alikes: a dead process's name, a live one's, another --out's. None is recorded anywhere.
   const fs::path dead = out.parent_path() / (".out.al-staging-" + std::to_string(DeadPid()));
-  const fs::path alive = out.parent_path() / ".out.al-staging-1";  // init is always alive
+  const fs::path alive = out.parent_path() / ".out.al-staging-1";
   const fs::path other = out.parent_path() / ".other.al-staging-999999";
   for (const auto& p : {dead, alive, other}) Write(p / "x", "x");
-  CommitSet(out, "1");
-  EXPECT_FALSE(fs::exists(dead));
-  EXPECT_TRUE(fs::exists(alive));
-  EXPECT_TRUE(fs::exists(other));  // another --out's transaction is not ours to judge
+  const auto report = CommitSet(out, "1");
+  EXPECT_EQ(Named(out.parent_path(), ".out.al-staging-"),
+            (std::vector<std::string>{alive.filename().string(), dead.filename().string()}));
+  for (const auto& p : {dead, alive, other}) EXPECT_EQ(Read(p / "x"), "x");
+  const std::string warnings = report["warnings"].dump();
+  EXPECT_NE(warnings.find(dead.filename().string()), std::string::npos);
+  EXPECT_NE(warnings.find("left alone"), std::string::npos);
+  EXPECT_EQ(VerifyOutputSet(out).state, "complete");
 }
 
+// What a journaled commit killed half-way leaves: its folder, named in the lock's record.
 TEST(OutputSet, AnInterruptedCommitIsFinishedByTheNextRun) {
   const fs::path out = test::TempDir() / "out";
   CommitSet(out, "1");
-  // A per-entry commit killed after moving a.txt: report.json and sub/ still in the journal folder.
-  const fs::path commit = out.parent_path() / (".out.al-commit-" + std::to_string(DeadPid()));
-  Write(commit / "sub" / "b.txt", "b2");
-  Write(commit / "report.json", Read(out / "report.json"));
+  const std::string commit = ".out.al-commit-" + std::to_string(DeadPid()) + "-0123456789abcdef";
+  {
+    const output_set::UniqueFd dir = output_set::OpenFolder(out.parent_path());
+    output_set::OutputLock lock(dir.get(), ".out.al-lock", out.parent_path() / ".out.al-lock", out, false, {});
+    lock.Record({DeadPid(), "", commit, {}});
+  }  // the lock is released: its holder was killed
+  const fs::path folder = out.parent_path() / commit;
+  Write(folder / "sub" / "b.txt", "b2");
+  Write(folder / "report.json", Read(out / "report.json"));
   fs::remove(out / "report.json");
   EXPECT_EQ(VerifyOutputSet(out).state, "incomplete");
-  OutputSet next(out, OutputSetOptions("test"));  // recovery happens before anything else
+  { OutputSet next(out, OutputSetOptions("test")); }  // recovery happens before anything else
   EXPECT_EQ(Read(out / "sub" / "b.txt"), "b2");
   EXPECT_TRUE(fs::exists(out / "report.json"));
-  EXPECT_FALSE(fs::exists(commit));
+  EXPECT_FALSE(fs::exists(folder));
+  EXPECT_TRUE(Leftovers(out).empty());
 }
 
-TEST(OutputSet, JournalsSurviveKillsAndAreAdoptedByTheNextRun) {
+TEST(OutputSet, JournalsSurviveKillsAndFailuresAndAreAdoptedByTheNextRun) {
   const fs::path out = test::TempDir() / "out";
-  const pid_t dead = DeadPid();
-  {
-    // What a sweep killed before its first commit leaves: the journal and its claim.
-    Write(out / "results.jsonl", "{\"id\":1}\n");
-    Write(out.parent_path() / (".out.al-staging-" + std::to_string(dead)) / ".al-journals", "results.jsonl\n");
-  }
   OutputSetOptions o("test");
   o.journals = {"results.jsonl"};
-  OutputSet set(out, o);  // adopted: not a foreign collision
-  std::ofstream(set.Journal("results.jsonl"), std::ios::app) << "{\"id\":2}\n";
-  Write(set.dir() / "results.csv", "id\n1\n2\n");
+  // A sweep killed before its first commit leaves the journal, claimed in the lock's record.
+  KilledRun(out, o, [](OutputSet& set) { std::ofstream(set.Journal("results.jsonl")) << "{\"id\":1}\n"; });
+  {
+    OutputSet failed(out, o);  // adopted: not a foreign collision; then this run fails too
+    std::ofstream(failed.Journal("results.jsonl"), std::ios::app) << "{\"id\":2}\n";
+  }
+  OutputSet set(out, o);  // a failure keeps the claim as well
+  std::ofstream(set.Journal("results.jsonl"), std::ios::app) << "{\"id\":3}\n";
+  Write(set.dir() / "results.csv", "id\n1\n2\n3\n");
   const auto report = set.Commit(NewReport("test"));
-  EXPECT_EQ(Read(out / "results.jsonl"), "{\"id\":1}\n{\"id\":2}\n");
+  EXPECT_EQ(Read(out / "results.jsonl"), "{\"id\":1}\n{\"id\":2}\n{\"id\":3}\n");
   EXPECT_TRUE(report["manifest"]["files"][1]["append_only"].get<bool>());
   EXPECT_EQ(VerifyOutputSet(out).state, "complete");
-  std::ofstream(out / "results.jsonl", std::ios::app) << "{\"id\":3}\n";  // the next run appends
+  EXPECT_TRUE(Leftovers(out).empty());  // the claim is settled: no lock file is left
+  std::ofstream(out / "results.jsonl", std::ios::app) << "{\"id\":4}\n";  // the next run appends
   EXPECT_EQ(VerifyOutputSet(out).state, "extended");
-  // Without a claim or a manifest, a results.jsonl is the user's.
-  const fs::path out2 = out.parent_path() / "out2";
-  Write(out2 / "results.jsonl", "mine\n");
-  EXPECT_THROW(OutputSet(out2, o), Error);
+}
+
+// A neighbour's forged claim (the folder and file an older al-refine used) does not make a user's
+// results.jsonl al-refine's.
+TEST(OutputSet, AForgedJournalClaimIsNotHonoured) {
+  const fs::path out = test::TempDir() / "out";
+  Write(out / "results.jsonl", "mine\n");
+  Write(out.parent_path() / (".out.al-staging-" + std::to_string(DeadPid())) / ".al-journals", "results.jsonl\n");
+  OutputSetOptions o("test");
+  o.journals = {"results.jsonl"};
+  EXPECT_THROW(OutputSet(out, o), Error);
+  EXPECT_EQ(Read(out / "results.jsonl"), "mine\n");
 }
 
 TEST(OutputSet, ACommitIntoTheWorkingFolderKeepsItInPlace) {
@@ -239,13 +286,11 @@ TEST(OutputSet, AMountPointAsOutIsStagedInsideIt) {
   EXPECT_EQ(VerifyOutputSet(out).state, "complete");
   EXPECT_TRUE(Leftovers(out).empty());
   // A killed run's staging inside --out is reported by verify and removed by the next run.
-  const fs::path dead = out / (".al-staging-" + std::to_string(DeadPid()));
-  Write(dead / "a.txt", "x");
+  KilledRun(out, OutputSetOptions("test"), [](OutputSet& set) { Write(set.dir() / "a.txt", "x"); });
   const OutputSetStatus status = VerifyOutputSet(out);
   ASSERT_EQ(status.problems.size(), 1u);
   EXPECT_NE(status.problems[0].find("staging of a killed run"), std::string::npos);
   CommitSet(out, "3");
-  EXPECT_FALSE(fs::exists(dead));
   std::vector<std::string> inside;
   for (const auto& e : fs::directory_iterator(out)) inside.push_back(e.path().filename().string());
   std::sort(inside.begin(), inside.end());

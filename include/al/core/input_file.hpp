@@ -6,11 +6,16 @@
 
 namespace al {
 
+// Whether a symbolic link in the path's last component is followed. Inputs the user names may be
+// links; files al-refine finds inside an output folder are never followed (docs/reliability.md).
+enum class Links { kFollow, kRefuse };
+
 // An fd open for reading on a regular file (the caller closes it); throws al::Error naming the
 // file and what it is ("is a FIFO, not a regular file") otherwise.
-int OpenRegularFile(const std::string& path);
+int OpenRegularFile(const std::string& path, Links links = Links::kFollow);
 
 // The whole file; also refuses files over max_bytes (text inputs: cameras, manifests, masks).
-std::string ReadInputFile(const std::string& path, std::uint64_t max_bytes = std::uint64_t(1) << 31);
+std::string ReadInputFile(const std::string& path, std::uint64_t max_bytes = std::uint64_t(1) << 31,
+                          Links links = Links::kFollow);
 
 }  // namespace al

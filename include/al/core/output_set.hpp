@@ -1,21 +1,28 @@
 // An output folder (--out) written as one transaction (docs/reliability.md):
-//  - Before computing, OutputSet checks that --out can be written, refuses inputs that lie inside
-//    --out where this run would replace them, refuses foreign files (not listed by a previous
-//    al-refine manifest) under the names it will write unless --force, and cleans the staging of
-//    killed runs for the same --out (only entries of its own pattern whose process is gone).
-//  - Everything is written into a sibling staging folder ".NAME.al-staging-PID" (inside --out,
-//    ".al-staging-PID", when --out is a mount point or its parent is read-only; such a set is
-//    committed entry by entry, as below).
+//  - Before computing, OutputSet takes the folder's lock (".NAME.al-lock" beside --out, flock:
+//    one writer at a time; a second waits with a message, or refuses with --no-wait), checks that
+//    --out can be written, refuses inputs that lie inside --out where this run would replace them,
+//    refuses foreign files (not listed by a previous al-refine manifest of this user) under the
+//    names it will write unless --force, and finishes what the lock's record says an earlier,
+//    killed or failed run left (its staging, an interrupted commit, the journals it claimed).
+//    Folders that merely look like al-refine's bookkeeping are left alone, with a warning.
+//  - Everything is written into a sibling staging folder ".NAME.al-staging-PID-TOKEN", made with
+//    mkdir (0700; TOKEN random, recorded in the lock). Inside --out (".al-staging-PID-TOKEN",
+//    lock ".al-lock") when --out is a mount point or its parent is read-only; such a set is
+//    committed entry by entry, as below.
 //  - Commit writes report.json last, with a manifest of the set's files (path, bytes, SHA-256),
 //    and makes the new set visible at once: the staging folder is exchanged with --out
 //    (renameat2 RENAME_EXCHANGE), so a reader sees the previous complete set or the new one.
 //    When --out also holds files al-refine did not write (those are kept), entries move one by
-//    one from a committed journal folder ".NAME.al-commit-PID": report.json is removed first and
-//    written last, and a killed commit is finished by the next run.
-//  - Append-only journals (sweep's results.jsonl) live in --out itself and survive kills; the
-//    manifest records the committed prefix (bytes and its hash).
+//    one from a committed journal folder ".NAME.al-commit-PID-TOKEN": report.json is removed
+//    first and written last, and a killed commit is finished by the next run.
+//  - Append-only journals (sweep's results.jsonl) live in --out itself and survive kills and
+//    failures (the lock records the claim); the manifest records the committed prefix.
+//  - Everything under --out is opened without following links and without blocking.
 #pragma once
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -33,8 +40,11 @@ struct OutputSetOptions {
   std::vector<std::string> planned;              // top-level names this run will write, if known
   std::vector<std::string> journals;             // append-only files kept in --out (see Journal)
   bool force = false;                            // replace foreign entries with colliding names
+  bool wait = true;                              // another writer holds --out: wait (else refuse)
   std::string flag = "--out";                    // how messages name the folder
 };
+
+struct OutputTransaction;  // the lock, its record and the transaction folders (output_set.cpp)
 
 class OutputSet {
  public:
@@ -47,9 +57,19 @@ class OutputSet {
   // The staging folder: write every output here.
   const std::filesystem::path& dir() const { return staging_; }
   const std::filesystem::path& out() const { return out_; }
-  // An append-only file that lives in --out itself (created if missing) and is claimed by this
-  // run, so that a killed run's journal is recognised as al-refine's own by the next one.
+  // An append-only file that lives in --out itself and is claimed by this run (in the lock's
+  // record), so that the journal of a killed or failed run is recognised as al-refine's own by the
+  // next one. Journal returns its path (the caller creates it); OpenJournal opens it for reading
+  // and appending (created if missing), never through a link and never blocking, and returns the
+  // descriptor (the caller closes it).
   std::filesystem::path Journal(const std::string& name);
+  int OpenJournal(const std::string& name);
+  // A name declared as a journal that this run writes whole instead (staged like any other file,
+  // replacing the committed one at commit): sweep's shard.json when its grid grew.
+  void StageInsteadOfJournal(const std::string& name);
+  // What the set found and left alone (folders that look like al-refine's bookkeeping but that
+  // no al-refine run recorded); Commit adds them to the report's warnings.
+  const std::vector<std::string>& warnings() const { return warnings_; }
   // Adds report["manifest"], writes report.json last and publishes the set. Returns the report
   // as written.
   nlohmann::json Commit(nlohmann::json report);
@@ -58,18 +78,30 @@ class OutputSet {
   std::filesystem::path out_, parent_, staging_;
   std::string name_;
   OutputSetOptions options_;
-  std::vector<std::string> adopted_journals_;  // claimed by killed runs of the same --out
+  std::vector<std::string> adopted_journals_;  // claimed by killed or failed runs of the same --out
+  std::vector<std::string> warnings_;
   bool inside_ = false;     // staged inside --out (a mount point, or a read-only parent)
   bool committed_ = false;
   std::vector<std::filesystem::path> created_parents_;  // missing parents of --out it created
+  std::unique_ptr<OutputTransaction> txn_;
   void Open(const std::filesystem::path& out);
-  // ".NAME.KIND-PID" beside --out, or ".KIND-PID" inside it.
-  std::filesystem::path TransactionPath(const std::string& kind) const;
+  void RecoverPrevious();
+  void NoteLookAlikes();
+  void CreateStaging();
+  void Publish(const std::vector<std::string>& kept_foreign, const std::vector<std::string>& old_owned,
+               const std::vector<std::string>& present);
+  void Abandon();  // a run that never committed: its staging goes, its claims stay recorded
 };
 
 // The "force" default every OutputSet of this process starts from (the CLI's --force).
 void SetForceOutputs(bool force);
 bool ForceOutputs();
+// Whether output sets of this process wait for another writer of the same --out (the CLI's
+// --no-wait sets false: refuse with exit 2 instead).
+void SetWaitForOutputs(bool wait);
+// Where output sets tell a person what they are doing that takes time (waiting for the lock);
+// the CLI prints to stderr. Library default: nowhere.
+void SetOutputNotices(std::function<void(const std::string&)> notice);
 
 // What `al-refine info --verify DIR` reports: is DIR a complete al-refine output set?
 struct OutputSetStatus {
@@ -77,6 +109,7 @@ struct OutputSetStatus {
   std::string command;                // from report.json
   std::size_t files = 0;              // listed by the manifest
   std::vector<std::string> problems;  // missing / resized / changed files, interrupted runs
+  std::vector<std::string> notes;     // a writer at work now; look-alike folders left alone
   nlohmann::json ToJson() const;
 };
 OutputSetStatus VerifyOutputSet(const std::filesystem::path& dir);

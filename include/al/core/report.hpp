@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/input_file.hpp"
+
 namespace al {
 
 // A report skeleton for `command` (e.g. "refine"), status "ok".
@@ -20,8 +22,10 @@ void AddInputFile(nlohmann::json& report, const std::string& role, const std::fi
 void WriteReport(const std::filesystem::path& dir, const nlohmann::json& report,
                  const std::string& file_name = "report.json");
 
-// Hex SHA-256 of a file's bytes (of its first max_bytes bytes when given).
-std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes = UINTMAX_MAX);
+// Hex SHA-256 of a regular file's bytes (of its first max_bytes bytes when given); a FIFO or a
+// device is refused (al::Error) before a byte is read, and so is a link with Links::kRefuse.
+std::string Sha256File(const std::filesystem::path& path, std::uintmax_t max_bytes = UINTMAX_MAX,
+                       Links links = Links::kFollow);
 
 // Peak resident set size of this process so far, in MiB (0 if the OS does not say).
 // WriteReport stamps it into every report as "peak_rss_mib".

@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/input_file.hpp"
+
 #include "al/eval/eval.hpp"
 #include "al/io/camera.hpp"
 #include "al/refine/refine.hpp"
@@ -166,7 +168,9 @@ struct JsonlContents {
 // Reads results.jsonl (missing file: no records). A last line without its newline that does not
 // parse is the remnant of a killed run and is reported, not fatal; any other bad line is an
 // al::Error naming the line.
-JsonlContents ReadResultsJsonl(const std::string& path);
+JsonlContents ReadResultsJsonl(const std::string& path, Links links = Links::kFollow);
+// The same on text already read (`path` names it in errors).
+JsonlContents ParseResultsJsonl(const std::string& text, const std::string& path);
 
 // Canonical order of records (scene name, then the numeric parameters, then solver, threshold):
 // the order of merged outputs and of results.csv.
@@ -226,7 +230,7 @@ SweepGrid GridFromJson(const nlohmann::json& grid);  // throws al::Error (bad in
 ShardInfo MakeShardInfo(const SweepOptions& options);
 
 // DIR/shard.json. Throws al::Error (bad input) naming the folder when it is absent or malformed.
-ShardInfo ReadShardInfo(const std::string& dir);
+ShardInfo ReadShardInfo(const std::string& dir, Links links = Links::kFollow);
 void WriteShardInfo(const std::string& dir, const ShardInfo& info);
 
 // What differs between the sweeps of a and b, one entry per group in the order shard count, grid,
