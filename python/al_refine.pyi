@@ -81,8 +81,8 @@ class RefineResult:
     @property
     def message(self) -> str: ...
 
-def refine(scene: Scene, removed: ArrayLike, method: str = "fgs", k: int = 10, delta: float = 0.8,
-           solver: str = "bk", *, features: ArrayLike | None = None, labels: ArrayLike | None = None,
+def refine(scene: Scene, removed: ArrayLike, method: str = "generic", k: int = 10, delta: float = 0.8,
+           solver: str = "cp", *, features: ArrayLike | None = None, labels: ArrayLike | None = None,
            object_id: int | None = None, removed_is: str | None = None, out: str | None = None,
            solver_options: Mapping[str, Any] | None = None, **options: OptionValue) -> RefineResult: ...
 

@@ -3,10 +3,32 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
+#include <climits>
+
 #include "al/core/error.hpp"
 #include "al/io/masks.hpp"
 
 namespace al::python {
+namespace {
+
+// An int beyond 64 bits becomes the double it rounds to, so the options table reports it as out
+// of range (a UsageError naming the option), as the CLI does for the same digits.
+nlohmann::json IntToJson(const py::int_& value) {
+  int overflow = 0;
+  const long long exact = PyLong_AsLongLongAndOverflow(value.ptr(), &overflow);
+  if (overflow == 0 && !PyErr_Occurred()) return static_cast<std::int64_t>(exact);
+  PyErr_Clear();
+  const double rounded = PyLong_AsDouble(value.ptr());
+  if (PyErr_Occurred()) {
+    PyErr_Clear();
+    throw Error("the integer " + py::str(py::handle(value)).cast<std::string>().substr(0, 40) + "... is too large for any option",
+                ExitCode::kUsage);
+  }
+  return rounded;
+}
+
+}  // namespace
 
 nlohmann::json ToJson(py::handle v) {
   if (v.is_none()) return nullptr;
@@ -25,7 +47,7 @@ nlohmann::json ToJson(py::handle v) {
   if (py::isinstance<py::array>(v) && v.cast<py::array>().ndim() == 0) return ToJson(v.attr("item")());
   if (py::hasattr(v, "dtype") && py::str(v.attr("dtype").attr("kind")).cast<std::string>() == "b")
     return v.cast<bool>();  // numpy.bool_ is neither int nor bool
-  if (py::isinstance<py::int_>(v) || py::hasattr(v, "__index__")) return py::int_(py::reinterpret_borrow<py::object>(v)).cast<std::int64_t>();
+  if (py::isinstance<py::int_>(v) || py::hasattr(v, "__index__")) return IntToJson(py::int_(py::reinterpret_borrow<py::object>(v)));
   if (py::isinstance<py::float_>(v) || py::hasattr(v, "__float__")) return py::float_(py::reinterpret_borrow<py::object>(v)).cast<double>();
   throw Error("cannot pass a value of type " + py::str(v.get_type().attr("__name__")).cast<std::string>() +
                   " as an option (numbers, strings, booleans, lists and dicts are accepted)",
@@ -110,6 +132,36 @@ py::array_t<bool> MaskToNumpy(const std::vector<bool>& mask) {
 std::vector<bool> MaskFromPython(const py::array& array, std::size_t n, const std::string& what) {
   const py::array a = Contiguous(array, what);
   return RemovalSetFromArray(ViewOf(a, what), what, n).removed;
+}
+
+std::vector<std::int32_t> LabelsFrom(const py::object& labels, const std::string& what) {
+  const py::array array = py::array::ensure(labels);
+  if (!array || array.ndim() != 1 || (array.dtype().kind() != 'i' && array.dtype().kind() != 'u'))
+    throw Error(what + ": expected a 1-D integer array (an object id per Gaussian), got " +
+                    (array ? "dtype " + py::str(py::object(array.dtype())).cast<std::string>() + " with " +
+                                 std::to_string(array.ndim()) + " dimensions"
+                           : std::string("something else")),
+                ExitCode::kBadInput);
+  const py::array contiguous = Contiguous(array, what);
+  const std::vector<std::int64_t> wide = ViewOf(contiguous, what).ToInt64();
+  std::vector<std::int32_t> out(wide.size());
+  for (std::size_t i = 0; i < wide.size(); ++i) {
+    if (wide[i] < INT32_MIN || wide[i] > INT32_MAX)
+      throw Error(what + ": label " + std::to_string(wide[i]) + " at row " + std::to_string(i) +
+                      " does not fit an int32 object id", ExitCode::kBadInput);
+    out[i] = static_cast<std::int32_t>(wide[i]);
+  }
+  return out;
+}
+
+int ObjectIdFrom(const py::object& object_id, const std::vector<std::int32_t>& labels, const std::string& what) {
+  const nlohmann::json id = ToJson(object_id);
+  if (!id.is_number_integer() || id.get<std::int64_t>() < INT32_MIN || id.get<std::int64_t>() > INT32_MAX)
+    throw Error(what + ": object_id must be an integer of 32 bits, not " + id.dump(), ExitCode::kUsage);
+  const int target = static_cast<int>(id.get<std::int64_t>());
+  if (std::find(labels.begin(), labels.end(), target) == labels.end())
+    throw Error(what + ": object_id " + std::to_string(target) + " is not among the labels", ExitCode::kBadInput);
+  return target;
 }
 
 std::vector<Camera> CameraList(py::handle cameras) {

@@ -48,6 +48,12 @@ py::array_t<bool> MaskToNumpy(const std::vector<bool>& mask);
 // A 1-D mask of N Gaussians from a bool array (N,) or integer indices (as a --removed .npy).
 std::vector<bool> MaskFromPython(const py::array& array, std::size_t num_gaussians, const std::string& what);
 
+// Ground truth as the CLI reads it from --labels / --object-id: an integer array (a float array is
+// refused, as the CLI refuses a float .npy: bad input), and an id that must be an int of 32 bits
+// (usage error otherwise) present among the labels (bad input otherwise).
+std::vector<std::int32_t> LabelsFrom(const py::object& labels, const std::string& what);
+int ObjectIdFrom(const py::object& object_id, const std::vector<std::int32_t>& labels, const std::string& what);
+
 // Cameras: one Camera or a sequence of them.
 std::vector<Camera> CameraList(py::handle cameras);
 

@@ -85,9 +85,9 @@ py::dict Evaluate(const PyScene& scene, const py::object& cameras, const py::arr
   eval::ObjectSource object;
   if (!object_masks.is_none()) object.masks_dir = py::str(object_masks).cast<std::string>();
   if (!labels.is_none()) {
-    object.labels = py::array_t<std::int32_t, py::array::forcecast>::ensure(labels).cast<std::vector<std::int32_t>>();
+    object.labels = LabelsFrom(labels, "evaluate: labels");
     if (object_id.is_none()) throw Error("evaluate: labels need object_id", ExitCode::kUsage);
-    object.object_id = object_id.cast<int>();
+    object.object_id = ObjectIdFrom(object_id, object.labels, "evaluate");
   }
   if (object.masks_dir.empty() && object.labels.empty())
     throw Error("evaluate: give object_masks (a folder of VIEW.png) or labels and object_id", ExitCode::kUsage);

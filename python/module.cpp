@@ -8,7 +8,7 @@ render the scene on the CPU and score the removal with the paper's metrics.
 
     import al_refine as al
     s = al.synth("room", 20000, seed=1)
-    r = al.refine(s.scene, s.removed["fgs"], labels=s.labels, object_id=s.target_id)
+    r = al.refine(s.scene, s.removed["fgs"], method="fgs", labels=s.labels, object_id=s.target_id)
 
 Errors raise al_refine.Error subclasses carrying the CLI's exit code: UsageError (1),
 BadInputError (2), EmptyGraphError (3), InternalError (4).)";

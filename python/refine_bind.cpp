@@ -44,8 +44,8 @@ std::string KnownKeywords() {
 RefineOptions OptionsFrom(const std::string& method, const py::object& k, const py::object& delta, const std::string& solver,
                           const py::object& removed_is, const py::object& solver_options, py::dict kwargs) {
   RefineOptions o;
-  o.method = method;
-  o.solver = solver;
+  RefineOptions::Table().Set(o, "method", method);
+  RefineOptions::Table().Set(o, "solver", solver);
   if (!removed_is.is_none())
     o.removed_is = removed_is.cast<std::string>() == "remaining" ? RemovedIs::kRemaining : RemovedIs::kRemoved;
   if (!solver_options.is_none()) o.solver_options = ToJson(solver_options);
@@ -94,9 +94,9 @@ PyRefineResult Refine(const PyScene& scene, const py::array& removed, const std:
     d.features = ViewOf(features_c, "features");
   }
   if (!labels.is_none()) {
-    d.labels = py::array_t<std::int32_t, py::array::forcecast>::ensure(labels).cast<std::vector<std::int32_t>>();
+    d.labels = LabelsFrom(labels, "refine: labels");
     if (object_id.is_none()) throw Error("refine: labels need object_id", ExitCode::kUsage);
-    d.object_id = object_id.cast<int>();
+    d.object_id = ObjectIdFrom(object_id, d.labels, "refine");
   }
   RefineResult r;
   {
@@ -113,12 +113,22 @@ PyRefineResult Refine(const PyScene& scene, const py::array& removed, const std:
   return result;
 }
 
+// The defaults of refine()'s named parameters: the CLI's, from the same option tables.
+struct RefineDefaults {
+  std::string method = SpellOptionValue(RefineOptions::Table().Find("method").get(RefineOptions{}));
+  std::string solver = SpellOptionValue(RefineOptions::Table().Find("solver").get(RefineOptions{}));
+  int k = GraphOptions{}.k;
+  double delta = GraphOptions{}.delta;
+};
+
 std::string RefineDoc() {
-  std::string doc = R"(refine(scene, removed, method="fgs", k=10, delta=0.8, solver="bk", *, features=None,
-       labels=None, object_id=None, removed_is=None, out=None, solver_options=None, **options)
+  const RefineDefaults d;
+  std::string doc = "refine(scene, removed, method=\"" + d.method + "\", k=" + std::to_string(d.k) + ", delta=" +
+                    FormatOptionNumber(d.delta) + ", solver=\"" + d.solver + "\", *, features=None,\n";
+  doc += R"(       labels=None, object_id=None, removed_is=None, out=None, solver_options=None, **options)
 
 Refines a removal: the same pipeline as `al-refine refine` (one code path after loading, so the
-masks are identical for the same input). removed: the removal method's output as a bool mask
+masks are identical for the same input; every default is the CLI's, from the same option tables). removed: the removal method's output as a bool mask
 (N,) or integer indices (as a --removed .npy); with method "gc" float arrays with 0 = removed.
 method: fgs | gg | sags | gc | generic (the presets of docs/methods.md: features, polarity).
 features: (N, D) array overriding the scene's (float32 C-order: used in place, no copy).
@@ -153,8 +163,9 @@ void BindRefine(py::module_& m) {
       .def_readonly("message", &PyRefineResult::message)
       .def("__repr__", [](const PyRefineResult& r) { return "<al_refine.RefineResult " + r.status + ": " + r.message + ">"; });
   static const std::string doc = RefineDoc();
-  m.def("refine", &Refine, py::arg("scene"), py::arg("removed"), py::arg("method") = "fgs", py::arg("k") = 10,
-        py::arg("delta") = 0.8, py::arg("solver") = "bk", py::kw_only(), py::arg("features") = py::none(),
+  const RefineDefaults d;
+  m.def("refine", &Refine, py::arg("scene"), py::arg("removed"), py::arg("method") = d.method, py::arg("k") = d.k,
+        py::arg("delta") = d.delta, py::arg("solver") = d.solver, py::kw_only(), py::arg("features") = py::none(),
         py::arg("labels") = py::none(), py::arg("object_id") = py::none(), py::arg("removed_is") = py::none(),
         py::arg("out") = py::none(), py::arg("solver_options") = py::none(), doc.c_str());
 }

@@ -36,6 +36,32 @@ def test_usage_errors_name_the_option(synth):
         al.refine(synth.scene, synth.removed["fgs"], delta="wide")
 
 
+def test_huge_integers_are_usage_errors(synth):
+    with pytest.raises(al.UsageError, match="'k'"):
+        al.refine(synth.scene, synth.removed["fgs"], k=2**70)
+    with pytest.raises(al.UsageError, match="object_id"):
+        al.refine(synth.scene, synth.removed["fgs"], labels=synth.labels, object_id=2**70)
+
+
+def test_labels_are_read_as_the_cli_reads_them(cli, synth, synth_dir, tmp_path):
+    with pytest.raises(al.BadInputError, match="integer"):
+        al.refine(synth.scene, synth.removed["fgs"], labels=synth.labels.astype(np.float32),
+                  object_id=synth.target_id)
+    absent = int(synth.labels.max()) + 7
+    with pytest.raises(al.BadInputError, match="not among the labels"):
+        al.refine(synth.scene, synth.removed["fgs"], labels=synth.labels, object_id=absent)
+    with pytest.raises(al.BadInputError, match="not among the labels"):
+        al.evaluate(synth.scene, synth.cameras[:1], synth.removed["fgs"], labels=synth.labels, object_id=absent)
+    proc = run_cli(cli, "refine", "--scene", synth_dir / "scene.ply", "--removed", synth_dir / "removed_fgs.npy",
+                   "--labels", synth_dir / "labels.npy", "--object-id", absent, "--out", tmp_path / "x", check=False)
+    assert proc.returncode == al.BadInputError.exit_code and "not among the labels" in proc.stderr
+    floats = tmp_path / "float_labels.npy"
+    np.save(floats, synth.labels.astype(np.float32))
+    proc = run_cli(cli, "refine", "--scene", synth_dir / "scene.ply", "--removed", synth_dir / "removed_fgs.npy",
+                   "--labels", floats, "--out", tmp_path / "y", check=False)
+    assert proc.returncode == al.BadInputError.exit_code and "integer" in proc.stderr
+
+
 def test_bad_input_error_carries_the_cli_message(cli, synth, synth_dir, tmp_path):
     with pytest.raises(al.BadInputError, match="mask length 5 does not match the scene's 20000 Gaussians"):
         al.refine(synth.scene, np.zeros(5, dtype=bool))

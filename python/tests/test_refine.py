@@ -78,3 +78,19 @@ def test_help_teaches_every_table_field():
                   "centre (auto|on|off|shared, default auto)", "prior_weight (",
                   "cp_dif_tol (", "pivot ("):
         assert field in doc, field
+
+
+def test_defaults_are_the_clis(cli, synth, synth_dir, tmp_path):
+    # The call: the same flags both ways, every other option left to its default.
+    for name, flags, kwargs in [("fgs", ["--method", "fgs", "--k", "10", "--delta", "0.8"],
+                                 {"method": "fgs", "k": 10, "delta": 0.8}),
+                                ("bare", [], {})]:
+        out = tmp_path / name
+        run_cli(cli, "refine", "--scene", synth_dir / "scene.ply", "--removed", synth_dir / "removed_fgs.npy",
+                *flags, "--quiet", "--out", out)
+        r = al.refine(synth.scene, synth.removed["fgs"], **kwargs)
+        cli_report = __import__("json").loads((out / "report.json").read_text())
+        assert r.report["solver"]["name"] == cli_report["solver"]["name"], name
+        assert r.report["params"]["method"] == cli_report["params"]["method"], name
+        assert np.array_equal(r.refined, np.load(out / "refined.npy")), name
+        assert len(r.added) + len(r.restored) > 0, "the comparison must cover a refinement that changes something"

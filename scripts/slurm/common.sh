@@ -34,6 +34,24 @@ check_cpus_fit() {
   [ "$cpus" -le "$max" ] || die "--cpus-per-task=$cpus but the largest node has $max CPUs (sinfo): the tasks would pend for ever"
 }
 
+# --merge-time=T / --merge-mem=M (submit, resubmit): the merge job's --time / --mem.
+is_merge_option() { case "$1" in --merge-time=* | --merge-mem=*) return 0 ;; esac; return 1; }
+merge_option() {
+  case "$1" in
+    --merge-time=*) echo "--time=${1#--merge-time=}" ;;
+    --merge-mem=*) echo "--mem=${1#--merge-mem=}" ;;
+  esac
+}
+
+# Job ids of this sweep (from OUT/jobs, KEY=array or merge) that SLURM still lists as pending or
+# running.
+busy_jobs() {
+  local ours queued
+  ours="$(sed -n "s/.* $1=\([0-9]*\).*/\1/p" "$OUT/jobs" 2>/dev/null | sort -u)"
+  queued="$(squeue --me -h -o '%F %T' 2>/dev/null | awk '{print $1}' | sort -u)" || die "squeue failed"
+  comm -12 <(echo "$ours") <(echo "$queued") | tr '\n' ' ' | sed 's/ *$//'
+}
+
 # Submits merge.sbatch to run after every task of array job $1 has ended, whatever its state
 # (afterany: a cancelled or failed task must not leave the merge waiting for ever; no $1: at once).
 # merge itself refuses an incomplete set, so a merge after a failed task fails and names the
@@ -43,6 +61,6 @@ submit_merge() {
   if [ -n "${1:-}" ]; then after=(--dependency="afterany:$1" --kill-on-invalid-dep=yes); fi
   out="$(sbatch --parsable --chdir="$WORKDIR" "${after[@]+"${after[@]}"}" \
            --output="$OUT/logs/merge_%j.log" --export="ALL,AL_SWEEP_JOB=$OUT/sweep.job" \
-           "$SLURM_SCRIPTS/merge.sbatch")" || die "sbatch of the merge job failed"
+           "${MERGE_OPTIONS[@]+"${MERGE_OPTIONS[@]}"}" "$SLURM_SCRIPTS/merge.sbatch")" || die "sbatch of the merge job failed"
   job_id "$out"
 }

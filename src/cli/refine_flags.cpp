@@ -1,6 +1,8 @@
 #include "src/cli/refine_flags.hpp"
 
 #include "al/core/error.hpp"
+#include "al/core/text.hpp"
+#include "al/refine/stages.hpp"
 #include "al/solver.hpp"
 #include "src/cli/option_flags.hpp"
 
@@ -12,8 +14,10 @@ void AddInputFlags(CLI::App& app, RefineFlags& f) {
   app.add_option("--removed", o.removed, "Removed set: mask/indices .npy, indices .txt or subset .ply");
   app.add_option("--removed-is", f.removed_is, "A subset PLY holds the removed or the remaining Gaussians "
                  "(default: the preset's; gg: remaining)")->check(CLI::IsMember({"removed", "remaining"}));
-  app.add_option("--method", o.method, "Removal method preset: fgs|gg|sags|gc|generic")
-      ->check(CLI::IsMember({"fgs", "gg", "sags", "gc", "generic"}))->default_val("generic");
+  const auto& method = RefineOptions::Table().Find("method");  // Python's refine() shares it
+  app.add_option("--method", o.method, "Removal method preset: " + method.range)
+      ->check(CLI::IsMember(SplitTrimmed(method.range, '|')))
+      ->default_val(SpellOptionValue(method.get(RefineOptions{})));
   app.add_option("--features", o.features, "auto | PREFIX | FILE.npy | FILE.ply (default: the preset's)");
   app.add_option("--decoder", o.decoder, "W.npy,b.npy: per-Gaussian f' = W f + b (FGS speed-up models)");
   app.add_option("--labels", o.labels, "Ground-truth labels .npy (int32 object id per Gaussian)");
@@ -38,7 +42,7 @@ void AddDecisionFlags(CLI::App& app, RefineFlags& f) {
 void AddSolverFlags(CLI::App& app, RefineFlags& f) {
   std::string solvers;
   for (const auto& n : SolverNames()) solvers += (solvers.empty() ? "" : "|") + n;
-  app.add_option("--solver", f.options.solver, "Solver: " + solvers + " (default cp if available, else bk)");
+  app.add_option("--solver", f.options.solver, "Solver: " + solvers + " (default " + ResolveSolverName("") + ")");
   app.add_option("--solver-options", f.solver_options, "Solver options as a JSON object");
 }
 

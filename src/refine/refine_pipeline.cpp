@@ -164,16 +164,6 @@ nlohmann::json RefineResult::Summary() const {
   return s;
 }
 
-void RefineOptions::Check() const {
-  graph.Check();
-  decision.Check();
-  if (!(match_tol >= 0.0) || !std::isfinite(match_tol))
-    throw Error("refine option 'match_tol' = " + FormatOptionNumber(match_tol) + " must be >= 0", ExitCode::kUsage);
-  if (!(fgs_threshold >= 0.0 && fgs_threshold <= 1.0))  // a sum of softmax probabilities
-    throw Error("refine option 'fgs_threshold' = " + FormatOptionNumber(fgs_threshold) + " must be in [0, 1]",
-                ExitCode::kUsage);
-}
-
 OutputSetOptions RefineOutputSetOptions(const RefineOptions& o) {
   OutputSetOptions so("refine", {o.scene, o.removed, o.features, o.labels, o.prompt_embeddings},
                       {"refined.npy", "refined.txt", "added.txt", "remaining.ply", "report.json"});

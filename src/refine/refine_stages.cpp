@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <utility>
 
 #include "al/core/error.hpp"
@@ -178,7 +179,20 @@ void FeaturesFromData(const RefineData& data, RefineInputs& in, nlohmann::json& 
   }
 }
 
+// A target that no Gaussian carries would score every run 0 -> 0 in silence: refused instead.
+void CheckTargetPresent(const std::vector<std::int32_t>& labels, int target) {
+  if (std::find(labels.begin(), labels.end(), target) != labels.end()) return;
+  std::set<std::int32_t> ids(labels.begin(), labels.end());
+  std::string present;
+  for (auto it = ids.begin(); it != ids.end() && present.size() < 60; ++it)
+    present += (present.empty() ? "" : ", ") + std::to_string(*it);
+  throw Error("labels: object id " + std::to_string(target) + " is not among the labels (ids present: " +
+                  (present.empty() ? "none" : present) + (ids.size() > 12 ? ", ..." : "") + ")",
+              ExitCode::kBadInput);
+}
+
 GroundTruth MakeGroundTruth(std::vector<std::int32_t> labels, int target, const Scene& scene) {
+  CheckTargetPresent(labels, target);
   const std::size_t N = scene.size();
   GroundTruth truth;
   truth.labels = std::move(labels);

@@ -134,7 +134,8 @@ void Completeness(const std::vector<LoadedShard>& shards, const std::vector<bool
   if (!result.missing_shards.empty())
     result.message += "; no folder for shard " + JoinIndices(result.missing_shards, ", ") + " (of " + std::to_string(n) + ")";
   if (!partial.empty()) result.message += "; shard " + JoinIndices(partial, ", ") + " only partly done";
-  result.message += "; rerun those shards (scripts/slurm/resubmit), or merge with --allow-partial";
+  result.message += "; rerun those shards (the same sweep command with their --shard i/n; on SLURM, the "
+                    "resubmit script beside submit, given the sweep's folder), or merge with --allow-partial";
 }
 
 nlohmann::json ResultJson(const MergeOptions& o, const MergeResult& r, const ShardInfo& sweep) {

@@ -11,6 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "al/core/option_table.hpp"
 #include "al/core/output_set.hpp"
 #include "al/decision.hpp"
 #include "al/graph/graph.hpp"
@@ -29,7 +30,7 @@ struct RefineOptions {
   std::string features;               // empty: the preset's; "auto", PREFIX, FILE.npy or FILE.ply
   std::string decoder;                // "W.npy,b.npy" (fgs speed-up models)
   GraphOptions graph;                 // k, delta, lambda, spatial, hops, radius_scale, ...
-  std::string solver;                 // empty: "cp" when registered, else "bk"
+  std::string solver;                 // empty: the default solver ("cp" when registered, else "bk")
   nlohmann::json solver_options = nlohmann::json::object();
   DecisionOptions decision;           // threshold rule, restore
   std::string labels;                 // ground truth (int32 object id per Gaussian)
@@ -45,9 +46,12 @@ struct RefineOptions {
   // Called after each stage with its name and duration (the CLI prints the slow ones).
   std::function<void(const std::string& stage, double seconds)> on_stage;
 
-  // The ranges of the graph and decision tables and of the numeric input options; throws al::Error
+  // The ranges of the graph and decision tables and of this struct's own table; throws al::Error
   // (usage) naming the option. RunRefine calls it before reading any file.
   void Check() const;
+  // The options that are not paths: method, solver, max_unmatched, match_tol, fgs_threshold. The
+  // CLI's flags and Python's keywords (and their defaults) come from it.
+  static const OptionTable<RefineOptions>& Table();
 };
 
 struct RefineResult {
