@@ -14,6 +14,10 @@ std::filesystem::path SharedDataDir();
 // A fresh, empty temporary directory unique to the running test.
 std::filesystem::path TempDir();
 
+// A file's whole text (empty when missing), and writing one (parent folders created).
+std::string ReadText(const std::filesystem::path& path);
+void WriteText(const std::filesystem::path& path, const std::string& text);
+
 }  // namespace al::test
 
 // Skips the current test loudly when the shared data is missing (fails under AL_REQUIRE_TEST_DATA=1).

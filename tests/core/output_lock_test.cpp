@@ -22,15 +22,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void Write(const fs::path& p, const std::string& s) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << s;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+void Write(const fs::path& p, const std::string& s) { test::WriteText(p, s); }
+std::string Read(const fs::path& p) { return test::ReadText(p); }
 
 void CommitA(const fs::path& out, const std::string& text, OutputSetOptions o = OutputSetOptions("test")) {
   OutputSet set(out, o);

@@ -21,15 +21,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-void Write(const fs::path& p, const std::string& s) {
-  fs::create_directories(p.parent_path());
-  std::ofstream(p, std::ios::binary) << s;
-}
-
-std::string Read(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+void Write(const fs::path& p, const std::string& s) { test::WriteText(p, s); }
+std::string Read(const fs::path& p) { return test::ReadText(p); }
 
 // Every entry of dir's parent that is not dir itself or `keep` (staging left behind, .tmp files).
 std::vector<std::string> Leftovers(const fs::path& dir, const std::vector<std::string>& keep = {}) {
