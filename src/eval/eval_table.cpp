@@ -88,8 +88,7 @@ std::vector<Group> ResidualGroups(const Table& t) {
     const bool any = std::any_of(t.rows.begin(), t.rows.end(), [&](const TableRow& r) {
       return std::any_of((r.*g.values).begin(), (r.*g.values).end(), [](const auto& v) { return v.has_value(); });
     });
-    if (lead) groups.insert(groups.begin(), g);
-    else if (any) groups.push_back(g);
+    if (any) groups.insert(lead ? groups.begin() : groups.end(), g);
   }
   return groups;
 }

@@ -153,9 +153,9 @@ struct TableRow {
   std::string name;
   std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
   std::vector<std::optional<double>> iou_drop_feat, residual_feat;
-  std::vector<std::optional<double>> residual_gt, residual_est, residual_px;  // lead the table when computed
   std::vector<int> acc_delta_depth_note;  // per method: footnote number (1-based into Table::notes) or 0
   std::vector<std::vector<std::optional<double>>> view_metrics;  // per ViewMetrics() entry, one per method
+  std::vector<std::optional<double>> residual_gt, residual_est, residual_px;  // lead the table when computed
 };
 // Footnote of an acc_Δdepth cell: the views whose value cannot be trusted (metrics::DepthTrust).
 struct DepthTrustNote {
