@@ -131,17 +131,30 @@ Mask Left(int columns) {
   return m;
 }
 
+ResidualOptions Tolerances(double colour, double depth) {
+  ResidualOptions o;
+  o.colour_tol = colour;
+  o.depth_tol = depth;
+  return o;
+}
+
 TEST(PixelResidual, ColourAndDepthMustBothStay) {
   const Depths before = Flat(0.9f, 2.0f);
   const Mask object = Left(8);
-  EXPECT_EQ(*ComputePixelResidual(before.View(), before.View(), object, {}).value, 1.0);  // untouched
+  const ResidualOptions o = Tolerances(0.1, 0.02);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), before.View(), object, o).value, 1.0);  // untouched
   const Depths gone = Flat(0.3f, 5.0f);
-  EXPECT_EQ(*ComputePixelResidual(before.View(), gone.View(), object, {}).value, 0.0);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), gone.View(), object, o).value, 0.0);
   // Same colour, depth 1 % further (within 2 %): still there; 3 % further: changed.
-  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.02f).View(), object, {}).value, 1.0);
-  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.06f).View(), object, {}).value, 0.0);
-  // Same depth, colour 0.2 away: changed (a look-alike surface exactly where the object was is not).
-  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.7f, 2.0f).View(), object, {}).value, 0.0);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.02f).View(), object, o).value, 1.0);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.06f).View(), object, o).value, 0.0);
+  // Same depth, colour 0.2 away: changed (a look-alike surface exactly where the object was is not)
+  // -- unless the colour tolerance takes it.
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.7f, 2.0f).View(), object, o).value, 0.0);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.7f, 2.0f).View(), object, Tolerances(0.25, 0.02)).value, 1.0);
+  // The defaults (bench/residual's tuning half): 0.2 in colour, 15 % in depth.
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.2f).View(), object, {}).value, 1.0);
+  EXPECT_EQ(*ComputePixelResidual(before.View(), Flat(0.9f, 2.4f).View(), object, {}).value, 0.0);
   // Half the mask still matches.
   Depths half = gone;
   for (std::size_t p = 0; p < kN; ++p)
@@ -150,7 +163,7 @@ TEST(PixelResidual, ColourAndDepthMustBothStay) {
       half.depth[p] = 2.0f;
     }
   Mask still;
-  EXPECT_DOUBLE_EQ(*ComputePixelResidual(before.View(), half.View(), object, {}, &still).value, 0.5);
+  EXPECT_DOUBLE_EQ(*ComputePixelResidual(before.View(), half.View(), object, o, &still).value, 0.5);
   EXPECT_EQ(still.Count(), 32u);
 }
 
