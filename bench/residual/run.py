@@ -6,14 +6,15 @@ both scene generators, each kind of leftover (removals.py) on every scene.
 
   /usr/bin/python3 bench/residual/run.py [--half report|tune] [--bin build/al-refine] [--jobs 2]
                                          [--px-grid] [--write] [--cache DIR] [--work DIR]
+  /usr/bin/python3 bench/residual/run.py --from-results     (docs and plot from the saved records)
 
 Scenes (bench/accuracy/scenes.py's cache and generators, 60,000 Gaussians):
   tune    gen d16 seed 1, gen clip128 seed 2, synth room seed 1, synth counter seed 2 — where
           residual_px's tolerances were chosen (--px-grid prints the grid);
   report  gen d16 seed 21, gen clip128 seed 22, gen d32 seed 23, synth room 8, counter 9, garden 10
           — the published numbers.
---write (report half only): bench/results/residual_validity.json, the table in docs/eval.md and
-docs/eval_residual_validity.png. Each removal: `refine` with its preset (the default refinement,
+--write (report half only): bench/results/residual_validity.json, the tables in docs/eval.md and
+README.md and docs/eval_residual_validity.png. Each removal: `refine` with its preset (the default refinement,
 for residual_est), `eval --labels --refined` (every figure), `render --npy` (the truth)."""
 import argparse
 import concurrent.futures as futures
@@ -53,6 +54,8 @@ def parse_args():
     ap.add_argument("--work", default="", help="keep the renders and reports here (default: a temporary folder)")
     ap.add_argument("--px-grid", action="store_true", help="also score residual_px over a grid of tolerances")
     ap.add_argument("--write", action="store_true", help="publish (report half only)")
+    ap.add_argument("--from-results", action="store_true",
+                    help="no runs: rewrite the docs and the plot from bench/results/residual_validity.json")
     args = ap.parse_args()
     if args.write and args.half != "report":
         ap.error("--write publishes the report half only")
@@ -160,8 +163,22 @@ def px_grid_table(records, grid):
         print(f"  {key:10s} n {s['n']:3d}  MAE {validity._num(s['mae'], 3)}  rho {validity._num(s['rho'], 3)}")
 
 
+def publish(records, stats, table):
+    """docs/eval.md's table, README's short table and the scatter plot."""
+    validity.update_doc(os.path.join(REPO, "docs", "eval.md"), table)
+    validity.update_doc(os.path.join(REPO, "README.md"), validity.readme_table(stats), "residual trust")
+    validity.plot(records, os.path.join(REPO, "docs", "eval_residual_validity.png"))
+
+
 def main():
     args = parse_args()
+    results = os.path.join(REPO, "bench", "results", "residual_validity.json")
+    if args.from_results:
+        with open(results) as fh:
+            saved = json.load(fh)
+        records = saved["records"]
+        publish(records, saved["summary"], validity.markdown(records, saved["summary"], saved["by_kind"]))
+        return
     grid = [(c, d) for c in (0.05, 0.1, 0.2) for d in (0.01, 0.02, 0.05)] if args.px_grid else []
     work_root = args.work or tempfile.mkdtemp(prefix="al-residual-")
     try:
@@ -179,10 +196,9 @@ def main():
     if args.write:
         meta = {"date_utc": datetime.datetime.utcnow().strftime("%Y-%m-%dT%H:%M:%SZ"), "half": args.half,
                 "scenes": HALVES[args.half], "gaussians": N}
-        with open(os.path.join(REPO, "bench", "results", "residual_validity.json"), "w") as fh:
+        with open(results, "w") as fh:
             json.dump({"meta": meta, "summary": stats, "by_kind": kinds, "records": records}, fh, indent=1)
-        validity.update_doc(os.path.join(REPO, "docs", "eval.md"), table)
-        validity.plot(records, os.path.join(REPO, "docs", "eval_residual_validity.png"))
+        publish(records, stats, table)
 
 
 if __name__ == "__main__":

@@ -85,7 +85,8 @@ def plot(records, png):
                     if r["source"] == source and r.get(key) is not None and r["truth"] is not None:
                         fh.write(f"{r['truth']:.6f} {r[key]:.6f}\n")
                 fh.write("\n\n")
-        cmds += [f"set title '{name}'", "set ylabel 'figure'",
+        title = name.replace("'", "’")   # gnuplot strings are single-quoted here
+        cmds += [f"set title '{title}'", "set ylabel 'figure'",
                  f"plot x notitle lc rgb '#999999', '{dat}' index 0 pt 7 ps 0.6 title 'gen', "
                  f"'{dat}' index 1 pt 5 ps 0.6 title 'synth'"]
     cmds.append("unset multiplot")
@@ -95,8 +96,24 @@ def plot(records, png):
         shutil.rmtree(tmp, ignore_errors=True)
 
 
-def update_doc(path, table):
-    begin, end = "<!-- residual validity: bench/residual/run.py -->", "<!-- /residual validity -->"
+# What each figure is for (README's short table); the measured numbers are put beside them.
+USE = {"residual_gt": "synthetic scenes (labels): the truth",
+       "residual_est": "real scenes (headline without labels); reads low where refinement misses leftovers",
+       "residual_px": "object masks only; reads high where a look-alike surface is just behind",
+       "residual_feat": "feature field; blind to leftovers whose features are off",
+       "iou_feat": "feature field; same blind spot", "acc8": "parity with the paper only", "accf": "parity only"}
+
+
+def readme_table(stats):
+    lines = ["| figure | for | Spearman ρ | mean error | worst error |", "|---|---|---:|---:|---:|"]
+    for key, name in FIGURES[::-1]:
+        s = stats["all"][key]
+        lines.append(f"| {name} | {USE[key]} | {_num(s['rho'])} | {_num(s['mae'])} | {_num(s['worst'])} |")
+    return "\n".join(lines) + "\n"
+
+
+def update_doc(path, table, marker="residual validity"):
+    begin, end = f"<!-- {marker}: bench/residual/run.py -->", f"<!-- /{marker} -->"
     with open(path) as fh:
         text = fh.read()
     if begin not in text or end not in text:
