@@ -150,7 +150,8 @@ std::string SummarySection(const json& columns) {
   std::string s = "<h2>Summary</h2>\n" + HtmlTable(header, rows, "summary") +
                   "<p class=\"note\">Bold: the best value of a row. The residuals answer \"is anything of the "
                   "object left?\" (0 = gone, 1 = untouched; docs/eval.md, \"Residuals\", says how far each can be "
-                  "trusted); the paper's figures follow. acc_Δdepth: share of the object's pixels whose depth changed "
+                  "trusted; residual_est is – for the first refinement: its render is the ideal); the paper's "
+                  "figures follow. acc_Δdepth: share of the object's pixels whose depth changed "
                   "(1 = the object is gone), thresholded over the whole image.</p>\n";
   if (!feature_rows.empty())
     s += "<h2>Feature metrics</h2>\n" + HtmlTable(header, feature_rows, "summary") + kFeatureNote;

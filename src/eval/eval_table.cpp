@@ -119,8 +119,8 @@ int NoteNumber(const TableRow& row, const Group& g, std::size_t method) {
 std::string ResidualNote(const std::string& headline) {
   return "The table leads with " + headline + " (share of the object's visible signal still there: 0 = gone, "
          "1 = untouched; docs/eval.md, \"Residuals\"): residual_gt against the render without the labelled object, "
-         "residual_est against the render of the first refinement, residual_px = share of the object mask whose "
-         "colour and depth did not change.";
+         "residual_est against the render of the first refinement (– in that refinement's own column), "
+         "residual_px = share of the object mask whose colour and depth did not change.";
 }
 
 // metrics.csv's residual cells of one view and column: value and footprint size of residual_gt and
