@@ -3,6 +3,7 @@
 // half about 0.5, by residual_gt (ideal from the labels), residual_est (ideal = a perfect
 // refinement) and residual_px (masks only); a view that sees too little of the object is not
 // scored; a NaN Gaussian changes nothing. Then the slab case of issue 32 on a generated room.
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,7 @@
 
 #include "al/eval/eval.hpp"
 #include "al/fixtures/synth.hpp"
+#include "al/io/image.hpp"
 #include "test_data.hpp"
 
 namespace al::eval {
@@ -158,6 +160,48 @@ TEST(EvalResiduals, NoViewScoredGivesNullAndANonFiniteGaussianChangesNothing) {
   EXPECT_EQ(Mean(r.summaries[0].residual_gt), 0.0);
   EXPECT_EQ(Mean(r.summaries[1].residual_gt), 1.0);
   EXPECT_EQ(Mean(r.summaries[0].residual_px), 0.0);
+}
+
+// Without labels: object masks from a folder, one view's mask full (every pixel), one empty (not
+// evaluated), one smaller than residual_min_pixels (evaluated, residual_px not scored). The headline is
+// residual_est (ideal = the refinement); residual_gt is skipped with the reason.
+TEST(EvalResiduals, MasksOnlyFullEmptyAndTinyMasks) {
+  PlateScene s = Plate();
+  s.cameras = {Cam("full", 0), Cam("empty", 0.5), Cam("tiny", 1.0)};
+  const fs::path dir = test::TempDir(), masks = dir / "masks";
+  fs::create_directories(masks);
+  for (const auto& [name, size] : {std::pair<std::string, int>{"full", 256}, {"empty", 0}, {"tiny", 5}}) {
+    Image8 m{256, 192, 1, std::vector<std::uint8_t>(256 * 192, 0)};
+    for (int y = 0; y < std::min(size, 192); ++y)
+      for (int x = 0; x < size; ++x) m.pixels[std::size_t(y) * 256 + std::size_t(x)] = 255;
+    WritePng8((masks / (name + ".png")).string(), m);
+  }
+  ObjectSource object;
+  object.masks_dir = masks.string();
+  EvalOptions o;
+  o.out_dir = (dir / "out").string();
+  o.progress = false;
+  const float inf = std::numeric_limits<float>::infinity();
+  const EvalResult r = RunEval(s.scene, s.cameras,
+                               {{"after", "half", PlateLeftOf(s, 0.0f), "", ""}, {"refined", "all", PlateLeftOf(s, inf), "", ""}},
+                               object, o);
+  EXPECT_EQ(r.headline, "residual_est");
+  EXPECT_EQ(r.evaluated, 2u);
+  EXPECT_EQ(r.skipped_empty_object, 1u);
+  EXPECT_FALSE(r.summaries[0].residual_gt.has_value());
+  EXPECT_TRUE(std::any_of(r.skipped.begin(), r.skipped.end(), [](const SkippedMetric& k) { return k.metric == "residual_gt"; }));
+  // residual_est needs no mask: both evaluated views score it (the plate's half is left).
+  ASSERT_TRUE(r.summaries[0].residual_est.has_value());
+  EXPECT_EQ(r.summaries[0].residual_est->stats.count, 2u);
+  EXPECT_NEAR(Mean(r.summaries[0].residual_est), 0.5, 0.06);
+  // residual_px: the full mask is scored (mostly wall, unchanged: high), the 25-pixel one is not.
+  ASSERT_TRUE(r.summaries[0].residual_px.has_value());
+  EXPECT_EQ(r.summaries[0].residual_px->stats.count, 1u);
+  EXPECT_EQ(r.summaries[0].residual_px->small_views, 1u);
+  EXPECT_GT(Mean(r.summaries[0].residual_px), 0.9);
+  std::ifstream md(fs::path(o.out_dir) / "table.md");
+  const std::string table((std::istreambuf_iterator<char>(md)), {});
+  EXPECT_EQ(table.find("| Scene-Object | residual_est ↓ half |"), 0u) << table;
 }
 
 // Issue 32: synth room, 60,000 Gaussians, seed 5, 6 views; the simulated FGS removal leaves a slab
