@@ -65,9 +65,10 @@ eval::EvalOptions EvalOptionsFrom(const std::string& out, const std::string& row
   TakeOptions(eval::FeatureEvalOptions::Table(), o.feature, kwargs);
   TakeOptions(FeatureFieldOptions::Table(), o.feature.field, kwargs);
   TakeOptions(metrics::FeatureSegOptions::Table(), o.feature.segmentation, kwargs);
+  TakeOptions(metrics::ResidualOptions::Table(), o.residual, kwargs);
   for (const auto& [key, value] : kwargs)
     throw Error("evaluate: unknown option '" + py::str(key).cast<std::string>() +
-                    "' (out, row_name, images, background, sh_degree, threads, the feature_* options)",
+                    "' (out, row_name, images, background, sh_degree, threads, the feature_* and residual options)",
                 ExitCode::kUsage);
   return o;
 }
@@ -113,7 +114,9 @@ std::string EvaluateDoc() {
          threads=0, **options)
 
 The evaluator of `al-refine eval` (docs/eval.md): renders every view before the removal, after it
-and after each refinement, and computes acc_delta_depth (8-bit and float), collateral damage, the
+and after each refinement, and computes what is left of the object (residual_gt with labels,
+residual_est against the first refinement, residual_px from the object masks: the summary's
+residual_*.mean, 0 = gone, 1 = untouched), acc_delta_depth (8-bit and float), collateral damage, the
 feature metrics when the scene has semantic features (IoU_drop_feat, acc_seg_feat, residual_feat:
 the summary's feature.* fields) and, with labels, the scores against the ground truth. removed:
 the method's set (bool mask or indices); refined: one refined set, or {name: set}. The object per
@@ -127,7 +130,7 @@ columns), "report": the report.json dict, "out": the folder or None}; pandas.Dat
 
 )";
   doc += OptionsDoc(eval::FeatureEvalOptions::Table()) + OptionsDoc(FeatureFieldOptions::Table()) +
-         OptionsDoc(metrics::FeatureSegOptions::Table());
+         OptionsDoc(metrics::FeatureSegOptions::Table()) + OptionsDoc(metrics::ResidualOptions::Table());
   return doc;
 }
 

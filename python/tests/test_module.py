@@ -71,6 +71,9 @@ def test_evaluate_scores_the_feature_metrics_and_takes_their_options(synth):
     assert on[0]["feature.mean_residual"] < 0.05 and on[0]["feature.mean_iou_after"] < 0.05
     assert on[1]["feature.mean_residual"] > on[0]["feature.mean_residual"]
     assert on[0]["feature.mean_iou_drop"] > 0.5
+    # What is left of the object, by the ground truth: nothing, and some of it for the half removal.
+    assert on[0]["residual_gt.mean"] == 0.0 and on[1]["residual_gt.mean"] > 0.1
+    assert al.evaluate(*args, px_colour_tol=0.05, **kw)["report"]["params"]["residual"]["px_colour_tol"] == 0.05
     tuned = al.evaluate(*args, feature_min_sim=0.6, feature_channels=8, **kw)["report"]["params"]["feature"]
     assert tuned["feature_min_sim"] == 0.6 and tuned["feature_channels"] == 8
     off = al.evaluate(*args, feature_metrics="off", **kw)

@@ -10,6 +10,7 @@
 #include "src/cli/command.hpp"
 #include "src/cli/warnings.hpp"
 #include "src/cli/feature_flags.hpp"
+#include "src/cli/option_flags.hpp"
 
 namespace al::cli {
 
@@ -17,9 +18,11 @@ class EvalCommand : public Command {
  public:
   std::string Name() const override { return "eval"; }
   std::string Description() const override {
-    return "Score a removal (and its refinements): renders before/after/refined, acc_delta_depth, collateral "
-           "damage, feature-field IoU_drop/acc_seg/residual, IoU_drop and sim_SAM when segmentations are given; "
-           "report.json, metrics.csv, table.md/.tex, images";
+    return "Score a removal (and its refinements): what is left of the object -- residual_gt (with --labels: "
+           "share of the object's visible signal still there, against the render without it), residual_est (the "
+           "same against the first --refined render), residual_px (object-mask pixels whose colour and depth did "
+           "not change) --, beside the paper's acc_delta_depth, IoU_drop and sim_SAM (given segmentations), "
+           "collateral damage and the feature-field metrics; report.json, metrics.csv, table.md/.tex, report.html";
   }
   void Setup(CLI::App& app) override {
     app.add_option("--scene", files_.scene, "Full pre-removal scene (.ply or .splat)")->required();
@@ -31,13 +34,15 @@ class EvalCommand : public Command {
     app.add_option("--label", files_.label, "Table name of the removal method (default: from the file, "
                                       "removed_fgs.npy -> fgs)");
     app.add_option("--refined", files_.refined, "Refined removed set (refine's refined.npy); NAME=FILE names it; "
-                                          "repeat for several")
+                                          "repeat for several. The first is residual_est's ideal (the "
+                                          "object as the refinement sees it)")
         ->take_all();
     app.add_option("--cameras", files_.cameras, "Cameras: INRIA cameras.json, COLMAP folder, or JSON list")->required();
     app.add_option("--views", files_.views, "Comma-separated view names, or all")->default_val("all");
     app.add_option("--object-masks", files_.object_masks, "Folder of object masks VIEW.png (> 0 = object)");
-    app.add_option("--labels", files_.labels, "Ground-truth labels .npy: object masks are rendered (share >= 0.5) and "
-                                        "the report scores each removal against them");
+    app.add_option("--labels", files_.labels, "Ground-truth labels .npy: object masks are rendered (share >= 0.5), "
+                                        "residual_gt is measured against the render without the object, and the "
+                                        "report scores each removal against them");
     app.add_option("--object-id", files_.object_id, "Target object id (else target.json beside --labels)");
     app.add_option("--seg-before", o_.seg_before_dir, "Detector (GroundedSAM) masks of the before renders");
     app.add_option("--seg-after", files_.seg_after, "Detector masks of the after renders");
@@ -69,6 +74,7 @@ class EvalCommand : public Command {
     app.add_option("--out", o_.out_dir, "Output directory")->required();
     app.add_flag("--quiet", quiet_, "No progress bar");
     AddFeatureFlags(app, feature_);
+    AddOptionFlags(app, metrics::ResidualOptions::Table(), o_.residual, "Residuals");
   }
 
   int Run() override {

@@ -65,6 +65,8 @@ json SummaryRows(const eval::EvalResult& er, const std::vector<DemoRefineRun>& r
   for (std::size_t c = 0; c < cols.size(); ++c) {
     const json& col = cols[c];
     json s = {{"label", col["label"]},
+              {"residual_gt", col["residual_gt"]["mean"]},  // the headline: what is left of the object
+              {"residual_px", col["residual_px"]["mean"]},
               {"num_removed", col["num_removed"]},
               {"gt", col["gt"]},
               {"acc_delta_depth", col["depth"]["mean_acc_delta_depth"]},
@@ -75,6 +77,7 @@ json SummaryRows(const eval::EvalResult& er, const std::vector<DemoRefineRun>& r
       s["acc_seg_feat"] = col["feature"]["acc_seg"];
       s["residual_feat"] = col["feature"]["mean_residual"];
     }
+    if (col.contains("residual_est")) s["residual_est"] = col["residual_est"]["mean"];
     if (c > 0) {
       s["added"] = col["added"];
       s["change"] = runs[c - 1].result.report["gt"]["change"];

@@ -99,13 +99,19 @@ Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, s
   return img;
 }
 
-Image8 ResidualOverlay(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& changed) {
+Image8 ResidualOverlay(const RenderOutput& render, const std::vector<float>& share) {
   Image8 img = RenderToRgb8(render);
-  const metrics::Mask o = metrics::Resize(object, changed.width, changed.height, metrics::ResizeRule::kExact);
-  static constexpr float kRed[3] = {230.f, 20.f, 20.f};
-  if (changed.width != img.width || changed.height != img.height) return img;
-  for (std::size_t p = 0; p < o.bits.size(); ++p)
-    if (o.bits[p] && !changed.bits[p]) Blend(&img.pixels[p * 3], kRed, 0.6f);
+  const std::size_t n = std::size_t(render.width) * std::size_t(render.height);
+  if (share.size() != n) return img;
+  metrics::Mask footprint = metrics::EmptyMask(render.width, render.height);
+  for (std::size_t p = 0; p < n; ++p) footprint.bits[p] = share[p] >= 0 ? 1 : 0;
+  static constexpr float kRed[3] = {230.f, 20.f, 20.f}, kGreen[3] = {0.f, 255.f, 0.f};
+  for (int y = 0; y < render.height; ++y)
+    for (int x = 0; x < render.width; ++x) {
+      const std::size_t p = std::size_t(y) * std::size_t(render.width) + std::size_t(x);
+      if (share[p] > 0) Blend(&img.pixels[p * 3], kRed, 0.8f * std::min(share[p], 1.0f));
+      if (OnOutline(footprint, x, y)) Blend(&img.pixels[p * 3], kGreen, 1.0f);
+    }
   return img;
 }
 

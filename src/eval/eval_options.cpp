@@ -13,6 +13,7 @@ void EvalOptions::Check() const {
   semantic.Check();
   sim_sam.Check();
   feature.Check();
+  residual.Check();
 }
 
 }  // namespace al::eval

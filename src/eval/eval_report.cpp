@@ -2,6 +2,7 @@
 
 #include <cstdio>
 #include <sstream>
+#include <vector>
 
 #include "al/eval/view_metric.hpp"
 
@@ -73,6 +74,7 @@ void AddEvalParams(json& report, const std::vector<EvalColumn>& columns, const O
   params["sam_min_iou"] = o.sim_sam.min_object_iou;
   params["export_renders"] = o.export_renders;
   params["feature"] = o.feature.ToJson();
+  params["residual"] = metrics::ResidualOptions::Table().ToJson(o.residual);
   params["write_images"] = o.write_images;
 }
 
@@ -101,22 +103,41 @@ json ColumnSummaryJson(const EvalColumn& column, const ColumnSummary& s, const E
   return j;
 }
 
+namespace {
+
+// "0.123" for a residual's mean in a column summary, "-" when it was not computed or not scored.
+std::string ResidualText(const json& column, const std::string& key) {
+  if (!column.contains(key) || !column[key]["mean"].is_number()) return "-";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3f", column[key]["mean"].get<double>());
+  return buf;
+}
+
+}  // namespace
+
 std::string EvalResult::BriefReport(const std::string& row, std::size_t num_views) const {
   std::string out;
-  char line[512];
+  char line[640];
   std::snprintf(line, sizeof line, "eval %s: %zu of %zu views evaluated (%zu without the object)\n", row.c_str(),
                 evaluated, num_views, skipped_empty_object + missing_object_masks);
   out += line;
-  std::snprintf(line, sizeof line, "  %-16s %9s %9s %10s %11s %9s %11s %10s\n", "removal", "removed", "acc_dd",
-                "acc_dd_f", "coll_depth", "IoU_drop", "IoU_drop_ft", "resid_ft");
+  // The headline residual first (what is left of the object: 0 = gone), the paper's figures beside it.
+  std::vector<std::string> residuals = {headline};
+  for (const char* k : {"residual_gt", "residual_est", "residual_px"})
+    if (k != headline) residuals.push_back(k);
+  std::snprintf(line, sizeof line, "  %-16s %9s %12s %12s %12s %9s %10s %11s %9s %11s %10s\n", "removal", "removed",
+                residuals[0].c_str(), residuals[1].c_str(), residuals[2].c_str(), "acc_dd", "acc_dd_f", "coll_depth",
+                "IoU_drop", "IoU_drop_ft", "resid_ft");
   out += line;
   auto field = [](const json& c, const char* group, const char* key) {
     return c.contains(group) ? std::to_string(c[group][key].get<double>()).substr(0, 6) : std::string("-");
   };
   for (const auto& c : report["metrics"]["columns"]) {
-    std::snprintf(line, sizeof line, "  %-16s %9zu %9.3f %10.3f %11.4f %9s %11s %10s\n",
+    std::snprintf(line, sizeof line, "  %-16s %9zu %12s %12s %12s %9.3f %10.3f %11.4f %9s %11s %10s\n",
                   c["label"].get<std::string>().c_str(), c["num_removed"].get<std::size_t>(),
-                  c["depth"]["mean_acc_delta_depth"].get<double>(), c["depth_float"]["mean_acc_delta_depth"].get<double>(),
+                  ResidualText(c, residuals[0]).c_str(), ResidualText(c, residuals[1]).c_str(),
+                  ResidualText(c, residuals[2]).c_str(), c["depth"]["mean_acc_delta_depth"].get<double>(),
+                  c["depth_float"]["mean_acc_delta_depth"].get<double>(),
                   c["depth"]["collateral_depth"]["mean"].get<double>(), field(c, "semantic", "mean_iou_drop").c_str(),
                   field(c, "feature", "mean_iou_drop").c_str(), field(c, "feature", "mean_residual").c_str());
     out += line;

@@ -22,7 +22,12 @@ struct SummaryRow {
   int better;
   int digits;
 };
+// The residuals lead (in this order the headline is always the first present: residual_gt with
+// labels, else residual_est with a refinement, else residual_px; al/eval/residuals.hpp).
 constexpr SummaryRow kSummaryRows[] = {
+    {"residual_gt.mean", "residual_gt ↓ (share of the object still visible; ideal: the scene without it)", -1, 3},
+    {"residual_est.mean", "residual_est ↓ (the same, ideal: the first refinement's render)", -1, 3},
+    {"residual_px.mean", "residual_px ↓ (share of the object mask whose colour and depth did not change)", -1, 3},
     {"num_removed", "Gaussians removed", 0, 0},
     {"added", "added by the refinement", 0, 0},
     {"depth.mean_acc_delta_depth", "acc_Δdepth ↑ (8-bit, the paper's)", +1, 3},
@@ -143,8 +148,11 @@ std::string SummarySection(const json& columns) {
   for (const std::string& key : keys)
     if (!shown.count(key)) other_rows.push_back(MetricRow(columns, key, key, 0, 4));
   std::string s = "<h2>Summary</h2>\n" + HtmlTable(header, rows, "summary") +
-                  "<p class=\"note\">Bold: the best value of a row. acc_Δdepth: share of the object's pixels "
-                  "whose depth changed (1 = the object is gone); residual = 1 − acc_Δdepth.</p>\n";
+                  "<p class=\"note\">Bold: the best value of a row. The residuals answer \"is anything of the "
+                  "object left?\" (0 = gone, 1 = untouched; docs/eval.md, \"Residuals\", says how far each can be "
+                  "trusted; residual_est is – for the first refinement: its render is the ideal); the paper's "
+                  "figures follow. acc_Δdepth: share of the object's pixels whose depth changed "
+                  "(1 = the object is gone), thresholded over the whole image.</p>\n";
   if (!feature_rows.empty())
     s += "<h2>Feature metrics</h2>\n" + HtmlTable(header, feature_rows, "summary") + kFeatureNote;
   if (!other_rows.empty())
@@ -202,10 +210,12 @@ void CollectFlagged(const json& value, const std::string& label, std::map<std::s
   }
 }
 
-// The residual of a view: 1 − acc_Δdepth (8-bit) of `column`, NaN when the view has none.
-double Residual(const json& record, const std::string& column) {
-  const std::string key = column + "_acc_delta_depth";
-  return record.contains(key) && record[key].is_number() ? 1.0 - record[key].get<double>() : NAN;
+// The headline residual of a view and column (metrics.csv's COLUMN_residual_gt, ...); on
+// residual_est's own ideal column, its residual_px. NaN when the view has none.
+double Residual(const json& record, const std::string& column, const std::string& headline) {
+  for (const std::string& key : {column + "_" + headline, column + "_residual_px"})
+    if (record.contains(key) && record[key].is_number()) return record[key].get<double>();
+  return NAN;
 }
 
 // One badge per flag name, with the columns / summaries that raised it ("fgs, depth; fgs+bk, depth").
@@ -250,13 +260,14 @@ std::string ResidualFeatText(const json& record, const json& columns) {
 }
 
 // One view: the pictures side by side, then a wipe between any two of them.
-std::string ViewCard(const json& entry, const json* record, const json& columns, const std::vector<std::string>* flags) {
+std::string ViewCard(const json& entry, const json* record, const json& columns, const std::vector<std::string>* flags,
+                     const std::string& headline) {
   const std::string view = entry.value("view", std::string());
   const json& images = entry["images"];
   std::string residuals;
   for (const json& c : columns) {
-    const double r = record ? Residual(*record, c.value("name", std::string())) : NAN;
-    residuals += (residuals.empty() ? "residual " : " · ") + HtmlEscape(Label(c)) + " " + HtmlNumber(r, 2);
+    const double r = record ? Residual(*record, c.value("name", std::string()), headline) : NAN;
+    residuals += (residuals.empty() ? headline + " " : " · ") + HtmlEscape(Label(c)) + " " + HtmlNumber(r, 2);
   }
   if (record) residuals += ResidualFeatText(*record, columns);
   std::string s = "<section class=\"view" + std::string(flags ? " flagged" : "") + "\" id=\"view-" +
@@ -295,20 +306,22 @@ document.addEventListener('input', function (event) {
 )js";
 
 std::string ViewsSection(const json& columns, const json& view_records, const json& view_images,
-                         const std::map<std::string, std::vector<std::string>>& flagged) {
+                         const std::map<std::string, std::vector<std::string>>& flagged, const std::string& headline) {
   std::map<std::string, const json*> by_view;
   for (const json& r : view_records) by_view[r.value("view", std::string())] = &r;
-  const std::string last = columns.empty() ? "" : columns.back().value("name", std::string());
+  const std::string first = columns.empty() ? "" : columns.front().value("name", std::string());
   std::vector<std::pair<double, const json*>> order;
   for (const json& entry : view_images) {
     const auto it = by_view.find(entry.value("view", std::string()));
-    const double r = it == by_view.end() ? NAN : Residual(*it->second, last);
+    const double r = it == by_view.end() ? NAN : Residual(*it->second, first, headline);
     order.push_back({std::isnan(r) ? -1.0 : r, &entry});
   }
   std::stable_sort(order.begin(), order.end(), [](const auto& x, const auto& y) { return x.first > y.first; });
-  std::string s = "<h2>Views, by residual of " + HtmlEscape(columns.empty() ? "" : Label(columns.back())) +
-                  " (most left of the object first)</h2>\n<p class=\"note\">Residual overlay: the object's pixels "
-                  "whose depth did not change, in red. Added overlay: pixels whose front Gaussian the refinement "
+  std::string s = "<h2>Views, by " + HtmlEscape(headline) + " of " +
+                  HtmlEscape(columns.empty() ? "" : Label(columns.front())) +
+                  " (most left of the object first)</h2>\n<p class=\"note\">Residual overlay (" + HtmlEscape(headline) +
+                  "): red in proportion to how much of the object each pixel still shows, the object's footprint "
+                  "outlined green. Added overlay: pixels whose front Gaussian the refinement "
                   "added (pink) or restored (cyan). Flagged views (outlined, ⚑): acc_Δdepth cannot be trusted "
                   "there. Drag the slider to wipe between any two pictures.</p>\n";
   for (const auto& [residual, entry] : order) {
@@ -316,7 +329,7 @@ std::string ViewsSection(const json& columns, const json& view_records, const js
     const auto rec = by_view.find(view);
     const auto flags = flagged.find(view);
     s += ViewCard(*entry, rec == by_view.end() ? nullptr : rec->second, columns,
-                  flags == flagged.end() ? nullptr : &flags->second);
+                  flags == flagged.end() ? nullptr : &flags->second, headline);
   }
   return s;
 }
@@ -351,7 +364,10 @@ std::string EvalReportHtml(const json& report, const json& view_records, const j
                      " flagged. Numbers: report.json, metrics.csv; tables: table.md, table.tex.</p>\n";
   body += SummarySection(columns);
   body += NotesSection(report);
-  body += ViewsSection(columns, view_records, view_images, flagged);
+  const json metrics = report.value("metrics", json::object());
+  const std::string headline =
+      metrics.value("residuals", json::object()).value("headline", std::string("residual_px"));
+  body += ViewsSection(columns, view_records, view_images, flagged, headline);
   return HtmlPage("al-refine eval: " + row, body, kWipeScript);
 }
 

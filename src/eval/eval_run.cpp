@@ -20,6 +20,7 @@
 #include "al/io/ply.hpp"
 #include "al/render/render_views.hpp"
 #include "al/eval/report_json.hpp"
+#include "al/eval/residuals.hpp"
 #include "al/eval/segmentations.hpp"
 #include "al/eval/view_metric.hpp"
 #include "al/metrics/removal_scores.hpp"
@@ -115,7 +116,10 @@ struct EvalContext {
   FeatureScorer features;
   RenderOptions render;
   fs::path out, images;
+  std::string headline;  // the residual that leads (al/eval/residuals.hpp)
+  metrics::ResidualOptions residual;  // o.residual with the depth metrics' alpha_hit
   std::vector<bool> run_semantic, run_sam, subset;
+  std::vector<bool> target;  // the labels' target (residual_gt's ideal removes it); empty without labels
   std::vector<std::vector<bool>> added, restored;
   std::unique_ptr<SamLists> sam_before;
   std::vector<std::unique_ptr<SamLists>> sam_cols;
@@ -148,16 +152,23 @@ void PlanOptionalMetrics(EvalContext& ctx, EvalResult& r) {
   }
   if (!ctx.features.enabled())
     for (const auto& c : ctx.columns) r.skipped.push_back({"iou_drop_feat", c.name, ctx.features.skip_reason()});
+  if (ctx.target.empty())
+    for (const auto& c : ctx.columns)
+      r.skipped.push_back({"residual_gt", c.name, "no --labels: the ground-truth ideal (the scene without the object) "
+                                                  "needs them"});
+  if (nc < 2)
+    r.skipped.push_back({"residual_est", ctx.columns[0].name,
+                         "no --refined: residual_est takes the first refinement's render as the ideal"});
 }
 
-// Before, the incremental cache and one "after" per column are held at once for each view.
+// Before, the incremental cache, one "after" per column and the ideal are held at once for each view.
 void CheckEvalMemory(const EvalContext& ctx, const std::vector<Camera>& cameras) {
   const std::size_t n = ctx.scene.size(), nc = ctx.columns.size();
   const int feature_dim = ctx.render.features ? int(ctx.render.features->cols()) : 0;
   for (const Camera& cam : cameras)
     CheckMemoryEstimate("evaluating view '" + cam.name + "' at " + std::to_string(cam.width) + "x" +
                             std::to_string(cam.height) + " with " + std::to_string(nc) + " removals",
-                        EstimateRenderBytes(n, cam.width, cam.height, feature_dim) * double(nc + 2));
+                        EstimateRenderBytes(n, cam.width, cam.height, feature_dim) * double(nc + 3));
 }
 
 void MakeOutputFolders(const EvalContext& ctx) {
@@ -187,6 +198,10 @@ void MarkGaussians(EvalContext& ctx) {
       ctx.added[c][i] = ctx.columns[c].removed[i] && !ctx.columns[0].removed[i];
       ctx.restored[c][i] = ctx.columns[0].removed[i] && !ctx.columns[c].removed[i];
     }
+  }
+  if (!ctx.object.labels.empty() && ctx.object.labels.size() == n) {
+    ctx.target.resize(n);
+    for (std::size_t i = 0; i < n; ++i) ctx.target[i] = ctx.object.labels[i] == ctx.object.object_id;
   }
   if (!ctx.object.masks_dir.empty()) return;
   ctx.subset.resize(n);
@@ -235,6 +250,8 @@ bool ObjectMaskOf(EvalContext& ctx, const Camera& cam, EvalResult& r, metrics::G
 struct ViewRenders {
   const RenderOutput* before = nullptr;
   std::vector<RenderOutput> after;
+  std::optional<RenderOutput> ideal;  // without the labels' target (residual_gt)
+  std::vector<std::vector<float>> residual_share;  // per column: the headline residual per pixel
   metrics::Gray8 object_gray;
   metrics::Mask object_mask, feature_seg_before;
   std::vector<metrics::Depth8Pair> pairs;
@@ -270,6 +287,7 @@ void ScoreView(EvalContext& ctx, const Camera& cam, ViewRenders& v, ViewRecord& 
   v.pairs.resize(nc);
   v.changed.resize(nc);
   v.feature_seg.resize(nc);
+  v.residual_share.resize(nc);
   if (ctx.features.enabled()) v.feature_seg_before = ctx.features.Segment(*v.before);
   for (std::size_t c = 0; c < nc; ++c) {
     ColumnViewMetrics m;
@@ -281,6 +299,9 @@ void ScoreView(EvalContext& ctx, const Camera& cam, ViewRenders& v, ViewRecord& 
     ScoreSegmentations(ctx, cam, c, has_seg_pre ? &seg_pre : nullptr, has_sam_a ? &sam_a : nullptr, v.object_gray, m);
     for (const ViewMetric& metric : ViewMetrics())
       m.view_metrics.push_back(metric.compute({*v.before, v.after[c], v.object_mask, v.changed[c]}));
+    const RenderOutput* ideal_est = nc > 1 && c != 1 ? &v.after[1] : nullptr;
+    ScoreResiduals({*v.before, v.after[c], v.ideal ? &*v.ideal : nullptr, ideal_est, v.object_mask}, ctx.residual, ctx.headline, m,
+                   v.residual_share[c]);
     if (ctx.features.enabled()) {
       v.feature_seg[c] = ctx.features.Segment(v.after[c]);
       m.feature = ctx.features.Score(v.object_mask, v.feature_seg_before, v.feature_seg[c], cam.name);
@@ -290,6 +311,11 @@ void ScoreView(EvalContext& ctx, const Camera& cam, ViewRenders& v, ViewRecord& 
 }
 
 using PngJobs = std::vector<std::pair<fs::path, Image8>>;
+
+// Which residual a column's overlay shows: the headline, except on residual_est's own ideal.
+std::string ResidualShown(const EvalContext& ctx, std::size_t c) {
+  return ctx.headline == "residual_est" && c == 1 ? "residual_px" : ctx.headline;
+}
 
 // Step 4a: report.html's pictures of one view (before, after, residual, added, depth change, feature
 // segmentation), queued as PNG jobs.
@@ -304,11 +330,12 @@ void QueuePictures(EvalContext& ctx, const Camera& cam, const ViewRenders& v, Pn
   };
   auto suffix = [&](std::size_t c) { return c == 0 ? std::string() : "_" + columns[c].name; };
   picture("before", "before", stem + "_before.png", RenderToRgb8(*v.before));
+  if (v.ideal) picture("ideal", "ideal (without the object)", stem + "_ideal.png", RenderToRgb8(*v.ideal));
   for (std::size_t c = 0; c < nc; ++c)
     picture(columns[c].name, columns[c].label, stem + "_" + columns[c].name + ".png", RenderToRgb8(v.after[c]));
   for (std::size_t c = 0; c < nc; ++c)
-    picture(columns[c].name + "_residual", columns[c].label + ": residual", stem + "_" + columns[c].name + "_residual.png",
-            ResidualOverlay(v.after[c], v.object_mask, v.changed[c]));
+    picture(columns[c].name + "_residual", columns[c].label + ": " + ResidualShown(ctx, c),
+            stem + "_" + columns[c].name + "_residual.png", ResidualOverlay(v.after[c], v.residual_share[c]));
   for (std::size_t c = 1; c < nc; ++c) {
     Image8 overlay = AddedOverlay(v.after[0], ctx.added[c]);
     PaintRestored(overlay, v.after[c], ctx.restored[c]);
@@ -372,6 +399,7 @@ void EvaluateView(EvalContext& ctx, const Camera& cam, EvalResult& r) {
   if (!renderer) renderer = std::make_unique<IncrementalRenderer>(ctx.scene, cam, ctx.render);
   v.before = &renderer->before();
   for (const EvalColumn& column : ctx.columns) v.after.push_back(renderer->After(column.removed));
+  if (!ctx.target.empty()) v.ideal = renderer->After(ctx.target);
   r.seconds_render += t.Seconds();
   t.Reset();
   ScoreView(ctx, cam, v, view);
@@ -425,6 +453,7 @@ void SummarizeColumns(const EvalContext& ctx, EvalResult& r) {
       }
     }
     s.view_metrics = SummarizeViewMetrics(r.views, c);
+    SummarizeResiduals(r.views, c, s);
     s.depth8 = metrics::SummarizeDepth(d8);
     s.depth_float = metrics::SummarizeDepth(df);
     s.collateral_psnr = metrics::ComputeMeanStd(psnr);
@@ -450,6 +479,7 @@ json MetricsJson(const EvalContext& ctx, EvalResult& r) {
   json cols = json::array();
   for (std::size_t c = 0; c < ctx.columns.size(); ++c) {
     json j = ColumnSummaryJson(ctx.columns[c], r.summaries[c], ctx.o);
+    AddResidualJson(r.views, c, r.summaries[c], j);
     if (with_gt) j["gt"] = ScoreRemoval(ctx.columns[c].removed, ctx.object.labels, ctx.object.object_id, opacity).ToJson();
     if (c > 0) j["added"] = std::size_t(std::count(ctx.added[c].begin(), ctx.added[c].end(), true));
     cols.push_back(std::move(j));
@@ -457,7 +487,10 @@ json MetricsJson(const EvalContext& ctx, EvalResult& r) {
   json skipped = json::array();
   for (const auto& s : r.skipped) skipped.push_back({{"metric", s.metric}, {"column", s.column}, {"reason", s.reason}});
   r.feature = ctx.features.ToJson();
-  return {{"columns", cols}, {"skipped", skipped}, {"feature_segmentation", r.feature}};
+  return {{"columns", cols},
+          {"skipped", skipped},
+          {"residuals", ResidualsInfoJson(ctx.headline, ctx.columns, !ctx.target.empty(), ctx.o.residual)},
+          {"feature_segmentation", r.feature}};
 }
 
 // report.json's counts, metrics, warnings, outputs; the tables and metrics.csv beside it.
@@ -515,11 +548,14 @@ EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const
   ctx.render.features = ctx.features.channels();
   r.seconds_features = feature_timer.Seconds();
   CheckEvalMemory(ctx, cameras);
+  MarkGaussians(ctx);
+  ctx.headline = r.headline = HeadlineResidual(!ctx.target.empty(), columns.size());
+  ctx.residual = o.residual;
+  ctx.residual.alpha_hit = o.float_depth.alpha_hit;
   PlanOptionalMetrics(ctx, r);
   ctx.out = staging.dir();
   ctx.images = ctx.out / "images";
   MakeOutputFolders(ctx);
-  MarkGaussians(ctx);
   OpenSamLists(ctx);
   Progress progress("eval", cameras.size(), o.progress);
   for (std::size_t vi = 0; vi < cameras.size(); ++vi) {

@@ -73,16 +73,36 @@ struct Group {
     return plugin < r.view_metrics.size() ? r.view_metrics[plugin] : none;
   }
 };
-// The paper's three groups, the feature metrics (no external segmenter) beside them, then the
-// plug-in metrics registered with in_table (al/eval/view_metric.hpp).
-std::vector<Group> Groups() {
-  std::vector<Group> groups = {
+// The residuals that were computed (the headline first: it answers "is anything of the object
+// left?"), the paper's three groups, the feature metrics (no external segmenter) beside them, then
+// the plug-in metrics registered with in_table (al/eval/view_metric.hpp).
+std::vector<Group> ResidualGroups(const Table& t) {
+  const std::vector<Group> all = {
+      {"residual_gt ↓", "residual$_{\\text{gt}}\\downarrow$", false, &TableRow::residual_gt},
+      {"residual_est ↓", "residual$_{\\text{est}}\\downarrow$", false, &TableRow::residual_est},
+      {"residual_px ↓", "residual$_{\\text{px}}\\downarrow$", false, &TableRow::residual_px},
+  };
+  std::vector<Group> groups;
+  for (const Group& g : all) {
+    const bool lead = g.md.rfind(t.headline + " ", 0) == 0;
+    const bool any = std::any_of(t.rows.begin(), t.rows.end(), [&](const TableRow& r) {
+      return std::any_of((r.*g.values).begin(), (r.*g.values).end(), [](const auto& v) { return v.has_value(); });
+    });
+    if (any) groups.insert(lead ? groups.begin() : groups.end(), g);
+  }
+  return groups;
+}
+
+std::vector<Group> Groups(const Table& t) {
+  std::vector<Group> groups = ResidualGroups(t);
+  const std::vector<Group> paper = {
       {"IoU_drop ↑", "IoU$_{\\text{drop}}\\uparrow$", true, &TableRow::iou_drop},
       {"acc_Δdepth ↑", "acc$_{\\Delta\\text{depth}}\\uparrow$", true, &TableRow::acc_delta_depth},
       {"sim_SAM ↓", "sim$_{\\text{SAM}}\\downarrow$", false, &TableRow::sim_sam},
       {"IoU_drop_feat ↑", "IoU$_{\\text{drop}}^{\\text{feat}}\\uparrow$", true, &TableRow::iou_drop_feat},
       {"residual_feat ↓", "residual$^{\\text{feat}}\\downarrow$", false, &TableRow::residual_feat},
   };
+  groups.insert(groups.end(), paper.begin(), paper.end());
   const std::vector<ViewMetric>& plugins = ViewMetrics();
   for (std::size_t k = 0; k < plugins.size(); ++k)
     if (plugins[k].in_table) groups.push_back({plugins[k].label, plugins[k].latex, plugins[k].better >= 0, nullptr, k});
@@ -93,6 +113,25 @@ std::vector<Group> Groups() {
 int NoteNumber(const TableRow& row, const Group& g, std::size_t method) {
   if (g.values != &TableRow::acc_delta_depth || method >= row.acc_delta_depth_note.size()) return 0;
   return row.acc_delta_depth_note[method];
+}
+
+// What the residual columns mean, for the table's note (which one leads, and what each reads).
+std::string ResidualNote(const std::string& headline) {
+  return "The table leads with " + headline + " (share of the object's visible signal still there: 0 = gone, "
+         "1 = untouched; docs/eval.md, \"Residuals\"): residual_gt against the render without the labelled object, "
+         "residual_est against the render of the first refinement (– in that refinement's own column), "
+         "residual_px = share of the object mask whose colour and depth did not change.";
+}
+
+// metrics.csv's residual cells of one view and column: value and footprint size of residual_gt and
+// residual_est, value of residual_px (empty = not computed or not scored).
+std::string ResidualCells(const ColumnViewMetrics& m) {
+  auto value = [](const std::optional<metrics::ViewResidual>& r) { return r && r->value ? Num(*r->value) : ""; };
+  auto pixels = [](const std::optional<metrics::ViewResidual>& r) { return r ? std::to_string(r->pixels) : ""; };
+  std::ostringstream s;
+  s << ',' << value(m.residual_gt) << ',' << pixels(m.residual_gt) << ',' << value(m.residual_est) << ','
+    << pixels(m.residual_est) << ',' << value(m.residual_px);
+  return s.str();
 }
 
 }  // namespace
@@ -158,6 +197,7 @@ std::string NoteText(const DepthTrustNote& n, std::string (*esc)(const std::stri
 
 Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>& columns, const EvalResult& result) {
   Table t;
+  if (!result.headline.empty()) t.headline = result.headline;
   TableRow row;
   row.name = row_name;
   for (std::size_t c = 0; c < columns.size(); ++c) {
@@ -176,6 +216,12 @@ Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>
     for (std::size_t k = 0; k < s.view_metrics.size(); ++k)
       row.view_metrics[k].push_back(s.view_metrics[k].count > 0 ? std::optional<double>(s.view_metrics[k].mean)
                                                                : std::nullopt);
+    auto residual = [](const std::optional<metrics::ResidualSummary>& r) {
+      return r && r->stats.count > 0 ? std::optional<double>(r->stats.mean) : std::nullopt;
+    };
+    row.residual_gt.push_back(residual(s.residual_gt));
+    row.residual_est.push_back(residual(s.residual_est));
+    row.residual_px.push_back(residual(s.residual_px));
     row.acc_delta_depth_note.push_back(0);
     if (any && !s.depth8.flagged.empty()) {
       t.notes.push_back(NoteOf(columns[c].label, s.depth8));
@@ -189,7 +235,7 @@ Table TableFromResult(const std::string& row_name, const std::vector<EvalColumn>
 std::string TableMarkdown(const Table& t) {
   std::ostringstream s;
   s << "| Scene-Object |";
-  const std::vector<Group> groups = Groups();
+  const std::vector<Group> groups = Groups(t);
   for (const Group& g : groups)
     for (const auto& m : t.methods) s << ' ' << g.md << ' ' << MarkdownEscape(m) << " |";
   s << "\n|---|";
@@ -214,7 +260,8 @@ std::string TableMarkdown(const Table& t) {
     s << "\n";
   }
   s << "\n**best** and <u>second best</u> per row and metric; – = not computed (see report.json `skipped`). "
-       "IoU_drop and sim_SAM use external GroundedSAM/SAM segmentations; the _feat columns segment the "
+    << ResidualNote(t.headline)
+    << " IoU_drop and sim_SAM use external GroundedSAM/SAM segmentations; the _feat columns segment the "
        "scene's own rendered feature field (docs/eval.md).\n";
   for (std::size_t i = 0; i < t.notes.size(); ++i)
     s << "\n<sup>" << i + 1 << "</sup> " << NoteText(t.notes[i], MarkdownEscape, "acc_Δdepth")
@@ -227,7 +274,7 @@ std::string TableLatex(const Table& t) {
   std::ostringstream s;
   s << "% Generated by al-refine eval; needs \\usepackage{booktabs}.\n";
   s << "\\begin{tabular}{l";
-  const std::vector<Group> groups = Groups();
+  const std::vector<Group> groups = Groups(t);
   for (std::size_t g = 0; g < groups.size(); ++g) s << (g ? "|" : "") << std::string(m, 'c');
   s << "}\n  \\toprule\n  Scene-Object";
   for (const Group& g : groups) s << " & \\multicolumn{" << m << "}{c}{" << g.tex << "}";
@@ -266,7 +313,8 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
                                   "collateral_depth_float", "collateral_psnr", "iou_before", "iou_after",
                                   "iou_drop", "sim_sam", "sim_sam_n_a", "sim_sam_n_b", "tiles_rendered",
                                   "depth_flags", "depth_float_flags", "iou_before_feat", "iou_after_feat",
-                                  "iou_drop_feat", "residual_feat"};
+                                  "iou_drop_feat", "residual_feat", "residual_gt", "footprint_gt",
+                                  "residual_est", "footprint_est", "residual_px"};
   std::ostringstream s;
   const std::vector<ViewMetric>& plugins = ViewMetrics();
   s << "view,evaluated,object_pixels,width,height";
@@ -300,6 +348,7 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
       } else {
         s << ",,,,";
       }
+      s << ResidualCells(m);
       for (const auto& value : m.view_metrics) s << ',' << Opt(value);
     }
     s << "\n";

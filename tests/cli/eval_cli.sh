@@ -45,10 +45,34 @@ for v in $views; do
     [ -s "$TMP/e/images/${v}_$k.png" ] || fail "missing images/${v}_$k.png"
   done
 done
+# Residuals: with --labels and --refined, residual_gt leads (report, CSV, table, printout, overlay),
+# residual_est takes the refined render as its ideal, residual_px runs from the masks.
+for k in residual_gt residual_est residual_px; do
+  grep -q "\"$k\"" "$TMP/e/report.json" || fail "report.json lacks $k"
+  head -1 "$TMP/e/metrics.csv" | grep -q "after_$k" || fail "metrics.csv lacks after_$k"
+done
+grep -q '"headline": "residual_gt"' "$TMP/e/report.json" || fail "residual_gt is not the headline with labels"
+head -1 "$TMP/e/table.md" | grep -q '^| Scene-Object | residual_gt ↓' || fail "table.md does not lead with residual_gt"
+grep -q 'residual_gt' "$TMP/out.txt" || fail "eval does not print residual_gt"
+for v in $views; do
+  for k in after_residual refined_residual ideal; do
+    [ -s "$TMP/e/images/${v}_$k.png" ] || fail "missing images/${v}_$k.png"
+  done
+done
+"$BIN" eval --help | grep -q -- '--px-colour-tol' || fail "--help lacks the residual_px tolerances"
+"$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" --labels "$S/labels.npy" \
+  --residual-min-pixels 0 --quiet --out "$TMP/u4" >/dev/null 2>&1
+[ $? -eq 1 ] || fail "--residual-min-pixels 0 should exit 1"
+[ ! -e "$TMP/u4" ] || fail "output written on a usage error"
 # Without labels the prototype comes from the removed set (object masks from synth's masks/).
 "$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" \
   --object-masks "$S/masks" --no-images --quiet --out "$TMP/e2" >/dev/null || fail "eval without labels failed"
 grep -q '"source": "removed set"' "$TMP/e2/report.json" || fail "prototype not from the removed set"
+# ... and without labels or a refinement the headline is residual_px; residual_gt and residual_est
+# are skipped with the reason.
+grep -q '"headline": "residual_px"' "$TMP/e2/report.json" || fail "residual_px is not the headline from masks alone"
+grep -q '"metric": "residual_est"' "$TMP/e2/report.json" || fail "residual_est is not listed as skipped"
+grep -q '"metric": "residual_gt"' "$TMP/e2/report.json" || fail "residual_gt is not listed as skipped"
 # Impossible or contradictory feature options: usage errors (exit 1), nothing written.
 printf '\x93NUMPY' > "$TMP/none.npy"
 "$BIN" eval --scene "$S/scene.ply" --removed "$S/removed_fgs.npy" --cameras "$S/cameras.json" --labels "$S/labels.npy" \

@@ -19,6 +19,16 @@ grep -q '^gc+cp ' "$TMP/a.txt" || fail "summary lacks the cp row"
 grep -q 'miss_rec' "$TMP/a.txt" || fail "summary lacks misses recovered"
 grep -q 'prec_add' "$TMP/a.txt" || fail "summary lacks the precision of the added"
 grep -q 'images: ' "$TMP/a.txt" || fail "summary does not say where the images are"
+# The summary leads with residual_gt, and says for each refinement whether it leaves less of the
+# object; a refinement with a higher F1 must leave less (issue 32: acc_Δdepth said the opposite).
+head -20 "$TMP/a.txt" | grep -q '^removal *residual_gt' || fail "summary does not lead with residual_gt"
+verdicts=$(grep -c ': leaves .* of the object than gc (residual_gt' "$TMP/a.txt")
+[ "$verdicts" -eq 2 ] || fail "expected a verdict per refinement: $(cat "$TMP/a.txt")"
+grep ': leaves .* of the object than gc' "$TMP/a.txt" | while read -r line; do
+  f1=$(echo "$line" | sed -n 's/.*F1 \([0-9.]*\) -> \([0-9.]*\)).*/\1 \2/p')
+  awk -v f="$f1" 'BEGIN { split(f, a, " "); exit !(a[2] > a[1]) }' || continue
+  echo "$line" | grep -q 'leaves less' || { echo "FAIL: higher F1 but not less left: $line"; exit 1; }
+done || fail "a refinement with a higher F1 does not leave less"
 cmp -s "$TMP/a/scene/scene.ply" "$TMP/b/scene/scene.ply" || fail "demo scene is not deterministic"
 cmp -s "$TMP/a/eval/metrics.csv" "$TMP/b/eval/metrics.csv" || fail "demo metrics are not deterministic"
 out=$("$BIN" info --scene "$TMP/a/scene/scene.ply" --json) || fail "info on the demo scene failed"

@@ -21,12 +21,13 @@ json Report() {
     "counts": {"views": 3, "evaluated": 2},
     "warnings": ["a warning"],
     "metrics": {"skipped": [{"metric": "sim_sam", "column": "after", "reason": "no --sam-before"}],
+      "residuals": {"headline": "residual_gt"},
       "columns": [
-        {"name": "after", "label": "fgs", "num_removed": 10,
+        {"name": "after", "label": "fgs", "num_removed": 10, "residual_gt": {"mean": 0.35},
          "depth": {"mean_acc_delta_depth": 0.25, "collateral_depth": {"mean": 0.02},
                    "flagged": [{"view": "v1", "flags": ["small_object"]}]},
          "feature": {"mean_residual": 0.7, "acc_seg": {"0.5": 0.25}}},
-        {"name": "bk", "label": "fgs+bk", "num_removed": 12, "added": 2,
+        {"name": "bk", "label": "fgs+bk", "num_removed": 12, "added": 2, "residual_gt": {"mean": 0.05},
          "depth": {"mean_acc_delta_depth": 0.75, "collateral_depth": {"mean": 0.01}, "flagged": []},
          "feature": {"mean_residual": 0.2, "acc_seg": {"0.5": 0.5}}, "iou_drop_feat": 0.4}]}})");
 }
@@ -34,8 +35,9 @@ json Report() {
 json Views() {
   return json::parse(R"([
     {"view": "v0", "evaluated": 1, "after_acc_delta_depth": 0.5, "bk_acc_delta_depth": 0.9, "bk_trust_flags": "",
-     "bk_residual_feat": 0.05},
-    {"view": "v1", "evaluated": 1, "after_acc_delta_depth": 0.0, "bk_acc_delta_depth": 0.6, "bk_trust_flags": "dark"}])");
+     "bk_residual_feat": 0.05, "after_residual_gt": 0.5, "bk_residual_gt": 0.1},
+    {"view": "v1", "evaluated": 1, "after_acc_delta_depth": 0.0, "bk_acc_delta_depth": 0.6, "bk_trust_flags": "dark",
+     "after_residual_gt": 0.2, "bk_residual_gt": 0.0}])");
 }
 
 json Images(const std::string& view) {
@@ -63,8 +65,13 @@ TEST(EvalReportHtml, ShowsEveryPartOfTheReport) {
   EXPECT_NE(html.find("no --sam-before"), std::string::npos);
   EXPECT_NE(html.find("src=\"images/v0%20before.png\""), std::string::npos);  // relative, encoded
   EXPECT_EQ(html.find("http"), std::string::npos);                            // no network reference
-  // v1 has the larger residual of the last column (1 − 0.6 > 1 − 0.9): it comes first.
-  EXPECT_LT(html.find("id=\"view-v1\""), html.find("id=\"view-v0\""));
+  // The headline residual leads the summary, the best (lowest) bold, and orders the views: v0 has
+  // the larger residual_gt of the method's column (0.5 > 0.2), so it comes first (by 1 − acc_Δdepth
+  // of the last column, the order before residuals, v1 would).
+  EXPECT_LT(html.find("residual_gt ↓"), html.find("acc_Δdepth ↑"));
+  EXPECT_NE(html.find("<b>0.050</b>"), std::string::npos);
+  EXPECT_NE(html.find("residual_gt fgs 0.50 · fgs+bk 0.10"), std::string::npos);
+  EXPECT_LT(html.find("id=\"view-v0\""), html.find("id=\"view-v1\""));
 }
 
 // Bold marks a best: a row where every method prints the same value has none; values that print

@@ -15,6 +15,7 @@
 #include "al/eval/feature_eval.hpp"
 #include "al/io/camera.hpp"
 #include "al/metrics/depth.hpp"
+#include "al/metrics/residual.hpp"
 #include "al/metrics/semantic.hpp"
 #include "al/metrics/sim_sam.hpp"
 #include "al/render/render.hpp"
@@ -56,6 +57,9 @@ struct EvalOptions {
   metrics::SemanticOptions semantic;
   metrics::SimSamOptions sim_sam;
   FeatureEvalOptions feature;          // feature metrics (IoU_drop_feat, acc_seg_feat, residual_feat)
+  // residual_gt (with labels), residual_est (ideal = the first refinement) and residual_px (object
+  // masks only): al/metrics/residual.hpp; alpha_hit follows float_depth.alpha_hit.
+  metrics::ResidualOptions residual;
   std::string seg_before_dir, sam_before_dir;  // segmentations of the "before" renders
   std::string seg_class;               // GroundedSAM JSON class (empty = every instance)
   bool export_renders = false;         // renders/<column>/<view>.png for external segmenters
@@ -78,6 +82,9 @@ struct ColumnViewMetrics {
   std::optional<metrics::SemanticRecord> semantic;
   std::optional<metrics::SimSamResult> sim_sam;
   std::optional<FeatureViewMetrics> feature;  // when the feature metrics run
+  // What is left of the object (al/metrics/residual.hpp): residual_gt needs labels, residual_est a
+  // refinement (none for the column that is its ideal), residual_px runs always.
+  std::optional<metrics::ViewResidual> residual_gt, residual_est, residual_px;
   std::vector<std::optional<double>> view_metrics;  // one per ViewMetrics() entry (al/eval/view_metric.hpp)
   std::size_t tiles_rendered = 0;
 };
@@ -98,6 +105,7 @@ struct ColumnSummary {
   std::optional<metrics::SemanticSummary> semantic;
   std::optional<metrics::MeanStd> sim_sam;
   std::optional<metrics::FeatureSummary> feature;
+  std::optional<metrics::ResidualSummary> residual_gt, residual_est, residual_px;
   std::size_t sim_sam_dropped = 0, sim_sam_missing = 0;
   std::size_t num_removed = 0;
   std::vector<metrics::MeanStd> view_metrics;  // one per ViewMetrics() entry, over the views defining it
@@ -112,6 +120,9 @@ struct EvalResult {
   std::vector<ColumnSummary> summaries;  // one per column
   std::vector<SkippedMetric> skipped;
   std::vector<std::string> warnings;
+  // The residual that leads the tables, report.html and the printed summary: "residual_gt" with
+  // labels, else "residual_est" with a refinement, else "residual_px" (al/eval/residuals.hpp).
+  std::string headline;
   std::size_t evaluated = 0, skipped_empty_object = 0, missing_object_masks = 0;
   double seconds_object_masks = 0, seconds_render = 0, seconds_metrics = 0, seconds_io = 0, seconds_total = 0;
   double seconds_features = 0;           // feature channels and prototypes (once per scene)
@@ -133,15 +144,18 @@ OutputSetOptions EvalOutputSetOptions(const EvalOptions& o);
 EvalResult RunEval(const Scene& scene, const std::vector<Camera>& cameras, const std::vector<EvalColumn>& columns,
                    const ObjectSource& object, const EvalOptions& options, const nlohmann::json* report = nullptr);
 
-// ---- Tables in the paper's layout (rows Scene-Object; column groups IoU_drop↑, acc_Δdepth↑,
-// sim_SAM↓, then the feature metrics IoU_drop_feat↑ and residual_feat↓; one column per method; per
-// row and group the best value bold, the second underlined).
+// ---- Tables in the paper's layout (rows Scene-Object; first the residuals that were computed,
+// the headline one leading — residual_gt↓ with labels, residual_est↓ with a refinement,
+// residual_px↓ —, then the paper's groups IoU_drop↑, acc_Δdepth↑, sim_SAM↓, then the feature
+// metrics IoU_drop_feat↑ and residual_feat↓; one column per method; per row and group the best
+// value bold, the second underlined).
 struct TableRow {
   std::string name;
   std::vector<std::optional<double>> iou_drop, acc_delta_depth, sim_sam;  // one per method
   std::vector<std::optional<double>> iou_drop_feat, residual_feat;
   std::vector<int> acc_delta_depth_note;  // per method: footnote number (1-based into Table::notes) or 0
   std::vector<std::vector<std::optional<double>>> view_metrics;  // per ViewMetrics() entry, one per method
+  std::vector<std::optional<double>> residual_gt, residual_est, residual_px;  // lead the table when computed
 };
 // Footnote of an acc_Δdepth cell: the views whose value cannot be trusted (metrics::DepthTrust).
 struct DepthTrustNote {
@@ -151,6 +165,7 @@ struct DepthTrustNote {
   std::optional<double> trusted_mean;  // mean over the views without a flag (none: all flagged)
 };
 struct Table {
+  std::string headline = "residual_px";  // EvalResult::headline: the residual group that leads
   std::vector<std::string> methods;
   std::vector<TableRow> rows;
   std::vector<DepthTrustNote> notes;

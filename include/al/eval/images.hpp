@@ -28,10 +28,11 @@ Image8 AddedOverlay(const RenderOutput& after, const std::vector<bool>& added, s
 Image8 FeatureSegImage(const RenderOutput& before, const RenderOutput& after, const metrics::Mask& object,
                        const metrics::Mask& target_before, const metrics::Mask& target_after);
 
-// The residual overlay of report.html: `render` with the object's pixels whose depth did not change
-// (object and not changed; `object` resized to the change mask's size with the exact rule) blended
-// 60 % towards red (230, 20, 20): what is left of the object.
-Image8 ResidualOverlay(const RenderOutput& render, const metrics::Mask& object, const metrics::Mask& changed);
+// The residual overlay of report.html: `render` (the column's) with each pixel of the residual's
+// footprint (share >= 0, al/eval/residuals.hpp) blended towards red (230, 20, 20) by 0.8 x its
+// share of the object still there, and the footprint outlined green: what is left of the object,
+// and where. A share of another size leaves the render as it is.
+Image8 ResidualOverlay(const RenderOutput& render, const std::vector<float>& share);
 
 // Paints, in place, the pixels of `image` whose front-most Gaussian in `render` (the render that
 // shows them, i.e. without the refinement's removal) is in `restored`, 65 % towards cyan (0, 200, 230).
