@@ -54,7 +54,7 @@ void SummarizeResiduals(const std::vector<ViewRecord>& views, std::size_t c, Col
   for (const Kind& kind : kKinds) {
     std::vector<metrics::ViewResidual> values;
     for (const ViewRecord& v : views)
-      if (v.evaluated && (v.columns[c].*kind.view)) values.push_back(*(v.columns[c].*kind.view));
+      if (c < v.columns.size() && (v.columns[c].*kind.view)) values.push_back(*(v.columns[c].*kind.view));
     if (!values.empty()) s.*kind.summary = metrics::SummarizeResidual(values);
   }
 }
@@ -65,7 +65,7 @@ void AddResidualJson(const std::vector<ViewRecord>& views, std::size_t c, const 
     if (!summary) continue;
     json per_view = json::array();
     for (const ViewRecord& v : views) {
-      if (!v.evaluated || !(v.columns[c].*kind.view)) continue;
+      if (c >= v.columns.size() || !(v.columns[c].*kind.view)) continue;
       const metrics::ViewResidual& r = *(v.columns[c].*kind.view);
       per_view.push_back({{"view", v.name}, {"residual", r.value ? json(*r.value) : json(nullptr)}, {"pixels", r.pixels}});
     }

@@ -373,7 +373,27 @@ void QueueExports(const EvalContext& ctx, const Camera& cam, const ViewRenders& 
   }
 }
 
-// Steps 1-4 for one camera; views without the object are counted and skipped (SPEC §6).
+// A view whose object mask is empty can still show part of the target (a thin or translucent part
+// whose share of the render stays below the mask's 0.5): residual_gt's definition scores every view
+// whose footprint has >= min_pixels pixels, so with labels (the renders exist already: the mask was
+// rendered from them) it is scored here too; nothing else of the view is.
+void ScoreGroundTruthOnly(EvalContext& ctx, const Camera& cam, std::unique_ptr<IncrementalRenderer>& renderer,
+                          ViewRecord& view) {
+  if (ctx.target.empty()) return;
+  if (!renderer) renderer = std::make_unique<IncrementalRenderer>(ctx.scene, cam, ctx.render);
+  const RenderOutput ideal = renderer->After(ctx.target);
+  for (const EvalColumn& column : ctx.columns) {
+    ColumnViewMetrics m;
+    const RenderOutput after = renderer->After(column.removed);
+    const metrics::ViewResidual gt = metrics::ComputeResidual(
+        {ideal.width, ideal.height, renderer->before().rgb, after.rgb, ideal.rgb}, ctx.residual);
+    if (gt.value) m.residual_gt = gt;
+    view.columns.push_back(std::move(m));
+  }
+}
+
+// Steps 1-4 for one camera; views without the object are counted and skipped (SPEC §6), but for
+// residual_gt (above).
 void EvaluateView(EvalContext& ctx, const Camera& cam, EvalResult& r) {
   ViewRecord view;
   view.name = cam.name;
@@ -389,6 +409,7 @@ void EvaluateView(EvalContext& ctx, const Camera& cam, EvalResult& r) {
   view.object_pixels = v.object_mask.Count();
   if (view.object_pixels == 0) {
     if (!view.object_mask_missing) ++r.skipped_empty_object;
+    if (!view.object_mask_missing) ScoreGroundTruthOnly(ctx, cam, renderer, view);
     r.views.push_back(std::move(view));
     return;
   }

@@ -125,6 +125,8 @@ std::string ResidualNote(const std::string& headline) {
 
 // metrics.csv's residual cells of one view and column: value and footprint size of residual_gt and
 // residual_est, value of residual_px (empty = not computed or not scored).
+constexpr std::size_t kResidualFields = 5;  // the last fields of a column: ResidualCells
+
 std::string ResidualCells(const ColumnViewMetrics& m) {
   auto value = [](const std::optional<metrics::ViewResidual>& r) { return r && r->value ? Num(*r->value) : ""; };
   auto pixels = [](const std::optional<metrics::ViewResidual>& r) { return r ? std::to_string(r->pixels) : ""; };
@@ -327,8 +329,14 @@ std::string MetricsCsv(const std::vector<EvalColumn>& columns, const EvalResult&
     s << CsvField(v.name) << ',' << (v.evaluated ? 1 : 0) << ',' << v.object_pixels << ',' << v.width << ','
       << v.height;
     for (std::size_t c = 0; c < columns.size(); ++c) {
-      if (!v.evaluated || c >= v.columns.size()) {
+      if (c >= v.columns.size()) {
         for (std::size_t f = 0; f < std::size(kFields) + plugins.size(); ++f) s << ',';
+        continue;
+      }
+      if (!v.evaluated) {  // a view without the object mask: only residual_gt may be scored
+        for (std::size_t f = 0; f + kResidualFields < std::size(kFields); ++f) s << ',';
+        s << ResidualCells(v.columns[c]);
+        for (std::size_t f = 0; f < plugins.size(); ++f) s << ',';
         continue;
       }
       const ColumnViewMetrics& m = v.columns[c];

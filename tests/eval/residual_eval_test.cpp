@@ -29,7 +29,8 @@ struct PlateScene {
   std::vector<Camera> cameras;
 };
 
-void AddGaussian(PlateScene& s, const Eigen::Vector3f& pos, float scale, const Eigen::Vector3f& rgb, int label) {
+void AddGaussian(PlateScene& s, const Eigen::Vector3f& pos, float scale, const Eigen::Vector3f& rgb, int label,
+                 float opacity_logit = 6.f) {
   const Eigen::Index i = Eigen::Index(s.labels.size());
   Scene& sc = s.scene;
   sc.means.conservativeResize(i + 1, 3);
@@ -40,7 +41,7 @@ void AddGaussian(PlateScene& s, const Eigen::Vector3f& pos, float scale, const E
   sc.means.row(i) = pos.transpose();
   sc.log_scales.row(i).setConstant(std::log(scale));
   sc.rotations.row(i) << 1, 0, 0, 0;
-  sc.opacity_logits(i) = 6.f;  // opaque
+  sc.opacity_logits(i) = opacity_logit;  // 6: opaque
   sc.sh.row(i) = ((rgb.array() - 0.5f) / kC0).matrix().transpose();
   s.labels.push_back(label);
 }
@@ -76,6 +77,22 @@ const PlateScene& Plate() {
   return p;
 }
 
+// The plate at opacity sigmoid(logit) (and its own Gaussians overlapping less): a translucent
+// plate never reaches the object mask's share of 0.5, yet changes the image.
+PlateScene TranslucentPlate(float logit) {
+  PlateScene s;
+  s.scene.sh_degree = 0;
+  s.scene.has_opacity = s.scene.has_scales = s.scene.has_rotations = s.scene.has_f_dc = true;
+  for (int iy = 0; iy <= 60; ++iy)
+    for (int ix = 0; ix <= 80; ++ix)
+      AddGaussian(s, {-8.f + 0.2f * ix, -6.f + 0.2f * iy, 10.f}, 0.15f, {0.3f, 0.5f, 0.7f}, 0);
+  for (int iy = 0; iy <= 10; ++iy)
+    for (int ix = 0; ix <= 10; ++ix)
+      AddGaussian(s, {-1.f + 0.2f * ix, -1.f + 0.2f * iy, 5.f}, 0.06f, {0.95f, 0.1f, 0.05f}, 1, logit);
+  s.cameras = {Cam("near", 0)};
+  return s;
+}
+
 // The plate's Gaussians with x < split (all: split = inf; none: split = -inf).
 std::vector<bool> PlateLeftOf(const PlateScene& s, float split) {
   std::vector<bool> r(s.labels.size(), false);
@@ -95,6 +112,22 @@ EvalResult RunPlate(const PlateScene& s, const std::vector<EvalColumn>& columns,
 }
 
 double Mean(const std::optional<metrics::ResidualSummary>& s) { return s && s->stats.count ? s->stats.mean : NAN; }
+
+// residual_gt's definition scores every view whose footprint has >= 64 pixels, also one whose
+// object mask (share >= 0.5) is empty: nothing else of that view is scored.
+TEST(EvalResiduals, ATranslucentObjectBelowTheMaskIsStillScoredByResidualGt) {
+  const PlateScene s = TranslucentPlate(-1.2f);  // opacity 0.23
+  const float inf = std::numeric_limits<float>::infinity();
+  const std::vector<EvalColumn> columns = {{"none", "none", PlateLeftOf(s, -inf), "", ""},
+                                           {"perfect", "none+perfect", PlateLeftOf(s, inf), "", ""}};
+  const EvalResult r = RunPlate(s, columns, test::TempDir() / "translucent");
+  ASSERT_EQ(r.evaluated, 0u) << "the plate must stay below the mask's share of 0.5 for this test";
+  ASSERT_TRUE(r.summaries[0].residual_gt.has_value());
+  EXPECT_EQ(r.summaries[0].residual_gt->stats.count, 1u);
+  EXPECT_EQ(Mean(r.summaries[0].residual_gt), 1.0);
+  EXPECT_EQ(Mean(r.summaries[1].residual_gt), 0.0);
+  EXPECT_FALSE(r.summaries[0].residual_px && r.summaries[0].residual_px->stats.count > 0);
+}
 
 TEST(EvalResiduals, PerfectZeroNoneOneHalfFaceOnHalf) {
   const PlateScene& s = Plate();
