@@ -122,16 +122,28 @@ DecisionOptions ResolveRestore(const MethodPreset& preset, DecisionOptions decis
   return decision;
 }
 
-GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
-                            const std::vector<std::uint8_t>* extra_seeds) {
-  GraphOptions go = options;
+// The graph options with the feature kind and the preset's autos resolved.
+GraphOptions GraphOptionsFor(const RefineInputs& inputs, GraphOptions go) {
   go.normalize_features = !inputs.colour_fallback;
   ResolvePriorSwitch(inputs.preset.prototype_credit, go.prior.prototype_credit);
   ResolvePriorSwitch(inputs.preset.wide_credit, go.prior.wide_credit);
   if (go.centre == Centring::kAuto) go.centre = inputs.preset.centre;
   if (!go.prior.weight) go.prior.weight = inputs.preset.prior_weight;
   if (!go.feature_width) go.feature_width = inputs.preset.feature_width;
-  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
+  return go;
+}
+
+GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
+                            const std::vector<std::uint8_t>* extra_seeds) {
+  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, GraphOptionsFor(inputs, options),
+                          extra_seeds);
+}
+
+// A later growth round: only what the new seeds add is searched and compared (GrowRefineGraph).
+GraphResult GrowGraph(const RefineInputs& inputs, const GraphOptions& options, GraphResult previous,
+                      const std::vector<std::uint8_t>& grown) {
+  return GrowRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, GraphOptionsFor(inputs, options),
+                         std::move(previous), grown);
 }
 
 nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<bool>& before,
@@ -387,7 +399,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
   for (int round = 0;; ++round) {
     if (round) {
       Timer t;
-      r.graph = BuildGraphGrown(inputs, options, &grown);
+      r.graph = GrowGraph(inputs, options, std::move(r.graph), grown);
       r.graph_seconds += t.Seconds();
     }
     r.rounds = round + 1;
