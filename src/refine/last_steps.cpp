@@ -200,7 +200,7 @@ void RunLastSteps(const RefineInputs& inputs, const GraphResult& graph, const Gr
   KeepRestoresInWindow(inputs, graph, options, out);
   TrimOneSidedCompletion(inputs, graph, options, xyz, out);
   BoundFeatureGroupCompletion(inputs, graph, options, xyz, out);
-  if (!out.empty_graph) out.decision["last_steps_seconds"] = timer.Seconds();
+  out.last_steps_seconds = timer.Seconds();
 }
 
 }  // namespace al

@@ -80,6 +80,7 @@ struct SolveOutcome {
   nlohmann::json solver = nlohmann::json::object();    // name, objective, iterations, seconds, ...
   nlohmann::json decision = nlohmann::json::object();  // rule, threshold, counts
   std::vector<std::string> warnings;
+  double last_steps_seconds = 0.0;    // RunLastSteps (a part of the refine report's timings_s.decide)
 };
 
 // Solves the graph's problem and applies the decision rule. An edgeless graph is not an error: the
