@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bench/tool_main.hpp"
 #include "al/core/error.hpp"
 #include "al/graph/problem_io.hpp"
 #include "al/solver.hpp"
@@ -111,13 +112,5 @@ int Main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const al::Error& e) {
-    std::cerr << e.what() << "\n";
-    return static_cast<int>(e.code());
-  } catch (const std::exception& e) {
-    std::cerr << "bench_problem: " << e.what() << "\n";
-    return static_cast<int>(al::ExitCode::kInternal);
-  }
+  return al::bench::RunTool("bench_problem", [&] { return Main(argc, argv); });
 }

@@ -20,6 +20,7 @@
 namespace al {
 
 using graph_internal::SceneNodes;
+using graph_internal::SquaredDistance;
 
 namespace {
 
@@ -177,15 +178,6 @@ std::vector<float> SelectCandidates(const SceneNodes& s, const std::vector<bool>
     for (int a = 0; a < 3; ++a) node_xyz[3 * v + a] = s.xyz[3 * i + a];
   }
   return node_xyz;
-}
-
-double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t v) {
-  double s = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = double(xyz[3 * u + a]) - xyz[3 * v + a];
-    s += d * d;
-  }
-  return s;
 }
 
 // σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.

@@ -9,15 +9,6 @@
 namespace al::graph_internal {
 namespace {
 
-double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t v) {
-  double s = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = double(xyz[3 * u + a]) - xyz[3 * v + a];
-    s += d * d;
-  }
-  return s;
-}
-
 double FeatureDistance(const RowMatXf& nf, std::int64_t u, std::int64_t v) {
   const float* fu = nf.row(u).data();
   const float* fv = nf.row(v).data();

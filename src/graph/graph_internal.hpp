@@ -31,6 +31,16 @@ struct PairCache {
   std::vector<double> df2;
 };
 
+// Squared distance of points u and v of a 3n position array, in double.
+inline double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t v) {
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double d = double(xyz[3 * u + a]) - xyz[3 * v + a];
+    s += d * d;
+  }
+  return s;
+}
+
 // The unique pairs of a kNN result (no distances yet).
 PairCache UniquePairs(const KnnResult& knn, std::size_t num_nodes);
 

@@ -284,6 +284,16 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
 
 namespace {
 
+// FLANN's exact kd-tree over n points (the data must outlive it), built on construction.
+struct ExactIndex : flann::KDTreeSingleIndex<flann::L2_Simple<float>> {
+  ExactIndex(float* data, std::size_t n)
+      : flann::KDTreeSingleIndex<flann::L2_Simple<float>>(flann::Matrix<float>(data, n, 3),
+                                                          flann::KDTreeSingleIndexParams(10)) {
+    buildIndex();
+  }
+};
+flann::SearchParams ExactSearch() { return flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false); }
+
 // The k smallest (distance, index) entries of a row and a sorted candidate list.
 void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<Entry>& extra) {
   for (int c = 0; c < k; ++c)
@@ -318,10 +328,8 @@ void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t>
       axyz[3 * t + a] = xyz[3 * std::size_t(added[t]) + a];
       lo[a] = std::min(lo[a], axyz[3 * t + a]), hi[a] = std::max(hi[a], axyz[3 * t + a]);
     }
-  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(flann::Matrix<float>(axyz.data(), m, 3),
-                                                          flann::KDTreeSingleIndexParams(10));
-  index.buildIndex();
-  const flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
+  const ExactIndex index(axyz.data(), m);
+  const flann::SearchParams params = ExactSearch();
   const auto n_old = static_cast<std::int64_t>(new_of_old.size());
 #pragma omp parallel reduction(+ : retries)
   {
@@ -367,22 +375,18 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
     }
   std::size_t retries = 0;
   AddedIntoOldLists(xyz, new_of_old, added, r, retries);
-  flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(flann::Matrix<float>(const_cast<float*>(xyz.data()), n, 3),
-                                                          flann::KDTreeSingleIndexParams(10));
-  index.buildIndex();
-  const flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
+  const ExactIndex index(const_cast<float*>(xyz.data()), n);
+  const flann::SearchParams params = ExactSearch();
+  // The added points' own lists (few: a list buffer per query costs nothing here).
   const auto m = static_cast<std::int64_t>(added.size());
-#pragma omp parallel reduction(+ : retries)
-  {
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : retries)
+  for (std::int64_t t = 0; t < m; ++t) {
     std::vector<Entry> out;
-#pragma omp for schedule(dynamic, 256)
-    for (std::int64_t t = 0; t < m; ++t) {
-      const std::int32_t i = added[std::size_t(t)];
-      Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, out, retries);
-      for (std::size_t c = 0; c < out.size(); ++c) {
-        r.neighbors[std::size_t(i) * k + c] = out[c].i;
-        r.sq_dist[std::size_t(i) * k + c] = out[c].d;
-      }
+    const std::int32_t i = added[std::size_t(t)];
+    Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, out, retries);
+    for (std::size_t c = 0; c < out.size(); ++c) {
+      r.neighbors[std::size_t(i) * k + c] = out[c].i;
+      r.sq_dist[std::size_t(i) * k + c] = out[c].d;
     }
   }
   r.tie_retries = before.tie_retries + retries;
