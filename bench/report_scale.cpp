@@ -8,6 +8,7 @@
 // Exit codes: 0 ok, 1 usage, 2 bad input (al::ExitCode).
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -19,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/atomic_file.hpp"
+#include "bench/tool_main.hpp"
 #include "al/core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -123,6 +125,7 @@ json CollectRun(const std::map<std::string, std::string>& f) {
   if (us != std::string::npos) r["solver"] = name.substr(us + 1);
   r["exit_code"] = static_cast<int>(ToDouble(get("exit"), "exit"));
   r["wall_s"] = ToDouble(get("wall_s"), "wall_s");
+  if (auto it = f.find("load"); it != f.end()) r["load_average"] = ToDouble(it->second, "load");
   Samples samples;
   if (auto it = f.find("rss"); it != f.end() && fs::exists(it->second)) samples = ReadSamples(it->second);
   if (!samples.empty()) {
@@ -144,12 +147,61 @@ json CollectRun(const std::map<std::string, std::string>& f) {
     for (const char* key : {"status", "peak_rss_mib", "timings_s", "counts", "graph"})
       if (rep.contains(key)) r[key] = rep[key];
     if (rep.contains("solver") && rep["solver"].is_object()) r["solver_result"] = rep["solver"];
+    if (rep.contains("gt") && rep["gt"].contains("after")) r["f1_after"] = rep["gt"]["after"].value("f1", NAN);
     if (!samples.empty() && r.contains("timings_s"))
       r["rss_by_stage_mib"] = RssByStage(r["stage"], r["timings_s"], samples);
   } else {
     r["status"] = "no report.json";
   }
   return r;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return NAN;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+using Series = std::map<std::string, std::vector<double>>;  // "wall", "peak_rss_mib", "f1_after", stages
+
+void AddRun(const json& r, Series& s) {
+  s["wall"].push_back(r["wall_s"].get<double>());
+  for (const char* key : {"peak_rss_mib", "f1_after", "load_average"})
+    if (r.contains(key) && r[key].is_number()) s[key].push_back(r[key].get<double>());
+  if (r.contains("timings_s") && r["timings_s"].is_object())
+    for (const auto& [k, v] : r["timings_s"].items())
+      if (v.is_number()) s["stage " + k].push_back(v.get<double>());
+}
+
+// Per solver: medians of the new and the old code's runs (refine_X, old-refine_X) and their ratio;
+// printed as a table. Empty when there are no old runs.
+json CompareWithBaseline(const json& runs) {
+  json out = json::object();
+  for (const std::string solver : {"bk", "cp"}) {
+    Series now, old;
+    for (const json& r : runs) {
+      if (r.value("solver", std::string()) != solver || r.value("exit_code", 1) != 0) continue;
+      const std::string stage = r.value("stage", std::string());
+      if (stage == "refine") AddRun(r, now);
+      else if (stage == "old-refine") AddRun(r, old);
+    }
+    if (now.empty() || old.empty()) continue;
+    json rows = json::object();
+    std::cout << "\n" << solver << " (medians of " << now["wall"].size() << " new / " << old["wall"].size()
+              << " old runs)\n  " << std::left;
+    std::printf("%-22s %10s %10s %8s\n", "", "new", "old", "new/old");
+    for (const Series* s : {&now, &old})
+      for (const auto& [key, values] : *s) {
+        if (rows.contains(key)) continue;
+        const double a = now.count(key) ? Median(now[key]) : NAN, b = old.count(key) ? Median(old[key]) : NAN;
+        rows[key] = {{"new", a}, {"old", b}, {"ratio", a / b}};
+        std::printf("  %-22s %10.4g %10.4g %8.3f\n", key.c_str(), a, b, a / b);
+      }
+    out[solver] = {{"ratio_wall", Median(now["wall"]) / Median(old["wall"])}, {"rows", rows},
+                   {"runs_new", now["wall"].size()}, {"runs_old", old["wall"].size()}};
+  }
+  return out;
 }
 
 int Main(int argc, char** argv) {
@@ -188,6 +240,7 @@ int Main(int argc, char** argv) {
           << "x the scene file: " << (ratio < 3 ? "within" : "OVER") << " the 3x target";
         doc["notes"].push_back(o.str());
       }
+  doc["comparison"] = CompareWithBaseline(doc["runs"]);
   al::WriteFileAtomically(out, doc.dump(2) + "\n");
   std::cout << "bench_scale_collect: wrote " << out.string() << "\n";
   return 0;
@@ -196,13 +249,5 @@ int Main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const al::Error& e) {
-    std::cerr << e.what() << "\n";
-    return static_cast<int>(e.code());
-  } catch (const std::exception& e) {
-    std::cerr << "bench_scale_collect: " << e.what() << "\n";
-    return static_cast<int>(al::ExitCode::kInternal);
-  }
+  return al::bench::RunTool("bench_scale_collect", [&] { return Main(argc, argv); });
 }

@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "al/core/atomic_file.hpp"
+#include "bench/tool_main.hpp"
 #include "al/core/error.hpp"
 
 namespace fs = std::filesystem;
@@ -772,13 +773,5 @@ int Main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  try {
-    return Main(argc, argv);
-  } catch (const al::Error& e) {
-    std::cerr << e.what() << "\n";
-    return static_cast<int>(e.code());
-  } catch (const std::exception& e) {
-    std::cerr << "bench_report: " << e.what() << "\n";
-    return static_cast<int>(al::ExitCode::kInternal);
-  }
+  return al::bench::RunTool("bench_report", [&] { return Main(argc, argv); });
 }

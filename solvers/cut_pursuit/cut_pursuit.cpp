@@ -181,6 +181,40 @@ Iterate InitialIterate(const Context& cx) {
   return it;
 }
 
+// The warm start's iterate (WarmStart): components numbered by their smallest vertex (§12), a new
+// node alone at its closed form, saturation kept only where nothing new touches a component.
+Iterate WarmIterate(const Context& cx, const WarmStart& w) {
+  const int D = cx.D;
+  const auto n_old = static_cast<std::int64_t>(w.values.size()) / D;
+  if (static_cast<std::int64_t>(w.comp.size()) != cx.V || static_cast<std::int64_t>(w.values.size()) != n_old * D ||
+      (!w.saturated.empty() && static_cast<std::int64_t>(w.saturated.size()) != n_old))
+    throw Error("cut pursuit: warm start sizes do not match the problem");
+  for (double x : w.values)
+    if (!(x >= 0.0 && x <= 1.0)) throw Error("cut pursuit: warm start values must lie in [0, 1]");
+  Iterate it{std::vector<std::int32_t>(cx.V, -1), 0, {}, {}};
+  std::vector<std::int32_t> id_of(static_cast<std::size_t>(n_old), -1);
+  std::vector<double> x(D);
+  for (std::int64_t v = 0; v < cx.V; ++v) {
+    const std::int32_t c = w.comp[v];
+    if (c >= n_old) throw Error("cut pursuit: warm start component out of range");
+    if (c >= 0 && id_of[c] >= 0) {
+      it.comp[v] = id_of[c];
+      continue;
+    }
+    if (c >= 0) std::copy_n(&w.values[static_cast<std::size_t>(c) * D], D, x.begin());
+    else ClosedFormValue(cx.loss, D, &cx.pb.y[static_cast<std::size_t>(v) * D], x.data());
+    it.comp[v] = it.rV++;
+    if (c >= 0) id_of[c] = it.comp[v];
+    it.rX.insert(it.rX.end(), x.begin(), x.end());
+    it.saturated.push_back(c >= 0 && !w.saturated.empty() ? w.saturated[c] : 0);
+  }
+  for (std::int64_t v = 0; v < cx.V; ++v) {
+    if (w.comp[v] >= 0) continue;
+    for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) it.saturated[it.comp[cx.full_nbr[k]]] = 0;
+  }
+  return it;
+}
+
 // Splits every non-saturated component (parallel over independent components, largest first for
 // load balance; each writes only its own vertices' labels), then saturates the ones that did not split.
 SplitRound SplitAll(const Context& cx, Iterate& it, SplitBuffers& buf, int threads) {
@@ -463,7 +497,7 @@ Iterate OuterIteration(const Context& cx, const PfdrOptions& popt, Iterate& it, 
 
 }  // namespace
 
-CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions& opt) {
+CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions& opt, const WarmStart* warm) {
   if (pb.first_edge.empty()) throw Error("cut pursuit: first_edge must hold V + 1 entries");
   Validate(pb);
   opt.Check();
@@ -476,7 +510,7 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
     res.objective_history.push_back(0.0);
     return res;
   }
-  Iterate it = InitialIterate(cx);
+  Iterate it = warm ? WarmIterate(cx, *warm) : InitialIterate(cx);
   res.objective_history.push_back(SimplexObjective(pb, it.comp, it.rX));
   Iterate best = it;
   double best_obj = res.objective_history[0];
@@ -502,6 +536,7 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
     it.rV = static_cast<std::int32_t>(it.rX.size() / cx.D);
   }
   res.num_components = it.rV;
+  res.saturated = it.saturated;
   res.comp_assign = std::move(it.comp);
   res.rX = std::move(it.rX);
   res.objective = std::min(best_obj, res.objective_history.back());

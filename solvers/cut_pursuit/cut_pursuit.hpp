@@ -68,14 +68,26 @@ struct CutPursuitResult {
   double objective = 0.0;
   // Per outer iteration: vertices of the non-saturated components offered to the split (max-flow work).
   std::vector<std::int64_t> split_nodes;
+  std::vector<char> saturated;            // per component at the end (not offered to a next split)
   int remainder_saturations = 0;          // components saturated by saturate_split_remainders
   std::vector<std::string> warnings;      // e.g. non-monotone objective steps
 
   double Value(std::int64_t v, int d, int D) const { return rX[comp_assign[v] * D + d]; }
 };
 
-// Throws al::Error on an inconsistent problem (sizes, negative weights, non-finite data).
-CutPursuitResult RunCutPursuit(const SimplexProblem& problem, const CutPursuitOptions& options);
+// A starting iterate other than one component (al-refine extension; docs/solvers.md "Warm start"):
+// comp[v] = v's component (any ids >= 0; -1 = a new node, which starts alone at its closed form),
+// values = rV x D component values, saturated = per component (empty = none). A component with a
+// new node or next to one starts unsaturated.
+struct WarmStart {
+  std::vector<std::int32_t> comp;
+  std::vector<double> values;
+  std::vector<char> saturated;
+};
+
+// Throws al::Error on an inconsistent problem (sizes, negative weights, non-finite data) or warm start.
+CutPursuitResult RunCutPursuit(const SimplexProblem& problem, const CutPursuitOptions& options,
+                               const WarmStart* warm = nullptr);
 
 // F(x) of the piecewise-constant solution, summed in a fixed order.
 double SimplexObjective(const SimplexProblem& problem, const std::vector<std::int32_t>& comp_assign,

@@ -15,10 +15,23 @@ class CutPursuitSolver final : public Solver {
   explicit CutPursuitSolver(cp::CutPursuitOptions options) : options_(options) {}
   std::string name() const override { return "cp"; }
 
-  SolverResult Solve(const RefineProblem& problem) const override {
+  SolverResult Solve(const RefineProblem& problem) const override { return Run(problem, nullptr); }
+
+  SolverResult SolveFrom(const RefineProblem& problem, const SolverWarmStart& warm) const override {
+    cp::WarmStart w{warm.component, std::vector<double>(2 * warm.value.size()),
+                    std::vector<char>(warm.saturated.begin(), warm.saturated.end())};
+    for (std::size_t c = 0; c < warm.value.size(); ++c) {
+      w.values[2 * c] = warm.value[c];
+      w.values[2 * c + 1] = 1.0 - warm.value[c];
+    }
+    return Run(problem, &w);
+  }
+
+ private:
+  SolverResult Run(const RefineProblem& problem, const cp::WarmStart* warm) const {
     const auto start = std::chrono::steady_clock::now();
     const cp::SimplexProblem sp = ToSimplexProblem(problem);
-    const cp::CutPursuitResult r = cp::RunCutPursuit(sp, options_);
+    cp::CutPursuitResult r = cp::RunCutPursuit(sp, options_, warm);
     SolverResult out;
     out.solver = "cp";
     const std::size_t V = problem.num_nodes();
@@ -42,11 +55,13 @@ class CutPursuitSolver final : public Solver {
     out.stats["non_monotone_steps"] = r.warnings.size();
     out.stats["emulate_upstream_projection_bug"] = options_.emulate_upstream_projection_bug;
     out.stats["max_flow"] = MaxFlow::AlgorithmName(options_.max_flow);
+    out.stats["warm_start"] = warm != nullptr;
+    out.partition = std::move(r.comp_assign);
+    out.saturated.assign(r.saturated.begin(), r.saturated.end());
     out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return out;
   }
 
- private:
   cp::CutPursuitOptions options_;
 };
 

@@ -14,9 +14,14 @@
 #include "al/graph/disjoint_sets.hpp"
 #include "al/graph/knn.hpp"
 #include "al/graph/prior.hpp"
+#include "src/graph/graph_internal.hpp"
 #include "src/graph/robust_stats.hpp"
 
 namespace al {
+
+using graph_internal::SceneNodes;
+using graph_internal::SquaredDistance;
+
 namespace {
 
 bool RowFinite(const auto& m, Eigen::Index i) {
@@ -114,13 +119,7 @@ double CheckGraphInputs(const Scene& scene, Eigen::Ref<const RowMatXf> features,
   return std::sqrt(2.0 * (1.0 - options.delta));
 }
 
-// Step 1: which Gaussians take part (every parameter and feature finite, a finite sphere), their
-// positions, sphere radii and whether the candidate set grows from them.
-struct SceneNodes {
-  std::vector<std::uint8_t> active, seeds;
-  std::vector<double> radii;
-  std::vector<float> xyz;
-};
+// Step 1 (graph_internal.hpp, SceneNodes).
 SceneNodes ActiveGaussians(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
                            const GraphOptions& options, const std::vector<std::uint8_t>* extra_seeds) {
   const std::size_t N = scene.size();
@@ -152,11 +151,11 @@ SceneNodes ActiveGaussians(const Scene& scene, Eigen::Ref<const RowMatXf> featur
 
 // Step 2: the candidate nodes (ascending scene index), their observations y and positions.
 std::vector<float> SelectCandidates(const SceneNodes& s, const std::vector<bool>& removed, const GraphOptions& options,
-                                    GraphResult& out) {
+                                    GraphResult& out, std::vector<std::uint8_t>& in_c) {
   GraphStats& st = out.stats;
   const std::size_t N = removed.size();
   CandidateStats cst;
-  const std::vector<std::uint8_t> in_c = GrowCandidates(s.xyz, s.radii, s.active, s.seeds, options.hops, &cst);
+  in_c = GrowCandidates(s.xyz, s.radii, s.active, s.seeds, options.hops, &cst);
   for (std::size_t i = 0; i < N; ++i) st.removed_nodes += removed[i] && s.active[i];
   st.added_per_hop = cst.added_per_hop;
   st.huge_spheres = cst.huge_spheres;
@@ -181,15 +180,6 @@ std::vector<float> SelectCandidates(const SceneNodes& s, const std::vector<bool>
   return node_xyz;
 }
 
-double SquaredDistance(const std::vector<float>& xyz, std::size_t u, std::size_t v) {
-  double s = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = double(xyz[3 * u + a]) - xyz[3 * v + a];
-    s += d * d;
-  }
-  return s;
-}
-
 // σ_x: median non-zero kNN distance (unit-free), else the median candidate radius.
 void SpatialScale(double median_edge, const SceneNodes& s, const RefineProblem& P, const GraphOptions& options,
                   GraphStats& st) {
@@ -207,84 +197,6 @@ void SpatialScale(double median_edge, const SceneNodes& s, const RefineProblem& 
   for (std::size_t v = 0; v < V; ++v) r[v] = s.radii[P.node_ids[v]];
   st.sigma_x = MedianOf(std::move(r));
   st.sigma_x_source = "median_radius";
-}
-
-// kNN pairs as undirected pairs stored at the smaller endpoint (CSR, possibly repeated).
-struct PairLists {
-  std::vector<std::int64_t> row_start;
-  std::vector<std::int32_t> other;
-};
-PairLists PairsAtSmallerEndpoint(const KnnResult& knn, std::size_t V) {
-  const int K = knn.k;
-  PairLists pl{std::vector<std::int64_t>(V + 1, 0), {}};
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) ++pl.row_start[std::min<std::size_t>(u, v) + 1];
-    }
-  for (std::size_t v = 0; v < V; ++v) pl.row_start[v + 1] += pl.row_start[v];
-  pl.other.resize(pl.row_start[V]);
-  std::vector<std::int64_t> cur(pl.row_start.begin(), pl.row_start.end() - 1);
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v < 0) continue;
-      const std::size_t a = std::min<std::size_t>(u, v), b = std::max<std::size_t>(u, v);
-      pl.other[cur[a]++] = static_cast<std::int32_t>(b);
-    }
-  return pl;
-}
-
-// Step 4: per node, its unique pairs through the semantic gate get weight
-// λ exp(-d_f²/σ_f²) [exp(-d_x²/σ_x²)]; the kept edges are compacted into the problem's CSR.
-void GateAndWeigh(PairLists& pl, const RowMatXf& nf, const std::vector<std::uint8_t>& zero_norm,
-                  const std::vector<float>& node_xyz, double gate, const GraphOptions& options, RefineProblem& P,
-                  GraphStats& st) {
-  const std::size_t V = P.node_ids.size();
-  const Eigen::Index D = nf.cols();
-  std::vector<std::int64_t> kept(V, 0), unique_count(V, 0);
-  std::vector<double> cand_w(pl.other.size(), 0.0);
-  const double sf2 = st.sigma_f * st.sigma_f, sx2 = st.sigma_x * st.sigma_x;
-  const auto vv = static_cast<std::int64_t>(V);
-#pragma omp parallel for schedule(dynamic, 512)
-  for (std::int64_t u = 0; u < vv; ++u) {
-    auto* b = pl.other.data() + pl.row_start[u];
-    auto* e = pl.other.data() + pl.row_start[u + 1];
-    std::sort(b, e);
-    e = std::unique(b, e);
-    unique_count[u] = e - b;
-    std::int64_t w_at = pl.row_start[u];
-    const float* fu = nf.row(u).data();
-    for (auto* it = b; it != e; ++it) {
-      const std::int32_t v = *it;
-      if (zero_norm[u] || zero_norm[v]) continue;
-      const float* fv = nf.row(v).data();
-      double df2 = 0;
-      for (Eigen::Index d = 0; d < D; ++d) {
-        const double t = double(fu[d]) - double(fv[d]);
-        df2 += t * t;
-      }
-      if (!(std::sqrt(df2) <= gate)) continue;
-      double w = options.Lambda() * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
-      if (options.spatial && sx2 > 0) w *= std::exp(-SquaredDistance(node_xyz, u, v) / sx2);
-      pl.other[w_at] = v;
-      cand_w[w_at] = w;
-      ++w_at;
-    }
-    kept[u] = w_at - pl.row_start[u];
-  }
-  P.first_edge.assign(V + 1, 0);
-  for (std::size_t u = 0; u < V; ++u) {
-    P.first_edge[u + 1] = P.first_edge[u] + kept[u];
-    st.edges_knn += static_cast<std::size_t>(unique_count[u]);
-  }
-  P.adj_vertices.resize(P.first_edge[V]);
-  P.edge_weights.resize(P.first_edge[V]);
-  for (std::size_t u = 0; u < V; ++u) {
-    std::copy_n(pl.other.begin() + pl.row_start[u], kept[u], P.adj_vertices.begin() + P.first_edge[u]);
-    std::copy_n(cand_w.begin() + pl.row_start[u], kept[u], P.edge_weights.begin() + P.first_edge[u]);
-  }
-  st.edges = P.adj_vertices.size();
 }
 
 // Step 5: connected components (singletons included) and isolated nodes.
@@ -340,12 +252,10 @@ double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) 
   return d.empty() ? 0.0 : MedianOf(std::move(d));
 }
 
-// Candidates → kNN → features and prior → gate and weights → components (SPEC §4).
-GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
-                             const std::vector<bool>& removed, const GraphOptions& options,
-                             const std::vector<std::uint8_t>* extra_seeds) {
-  Timer total;
-  const double gate = CheckGraphInputs(scene, features, removed, options, extra_seeds);
+namespace graph_internal {
+
+GraphResult NewGraphResult(const Scene& scene, Eigen::Ref<const RowMatXf> features, const GraphOptions& options,
+                           double gate) {
   GraphResult out;
   GraphStats& st = out.stats;
   st.num_gaussians = scene.size();
@@ -353,45 +263,69 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   st.gate_distance = gate;
   st.sigma_f = gate * options.FeatureWidth();
   st.lambda = options.Lambda();
+  return out;
+}
+
+void FinishGraph(const GraphGrowthState& state, Eigen::Ref<const RowMatXf> features, const GraphOptions& options,
+                 GraphResult& out) {
+  RefineProblem& P = out.problem;
+  GraphStats& st = out.stats;
+  const double median_edge = MedianKnnEdgeLength(state.knn, state.node_xyz);  // σ_x and the removed parts' links
+  st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
+  if (options.normalize_features) {
+    st.second_object = FindSecondObject(state.knn, median_edge, P.y_remove, features, P.node_ids);
+    const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
+    const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
+    std::vector<double> upper;
+    const std::vector<double> mask = std::move(P.y_remove);  // the mask before the prior, for the groups
+    P.y_remove = FeaturePrior(state.node_features, mask, options.prior, &st.prior, credit, &upper);
+    if (!st.second_object.Found()) st.whole_object_group = FindWholeObjectGroup(st.prior, upper, mask, P.node_ids);
+  }
+  SpatialScale(median_edge, state.scene, P, options, st);
+  GateAndWeigh(state.pairs, state.node_xyz, state.gate, options, P, st);
+  CountComponents(P, st);
+  AddGraphWarnings(out);
+}
+
+}  // namespace graph_internal
+
+// Candidates → kNN → features and prior → gate and weights → components (SPEC §4). What a later
+// round of candidate growth can reuse stays in out.growth (GrowRefineGraph, graph_growth.cpp).
+GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
+                             const std::vector<bool>& removed, const GraphOptions& options,
+                             const std::vector<std::uint8_t>* extra_seeds) {
+  Timer total;
+  auto state = std::make_shared<GraphGrowthState>();
+  state->gate = CheckGraphInputs(scene, features, removed, options, extra_seeds);
+  GraphResult out = graph_internal::NewGraphResult(scene, features, options, state->gate);
+  GraphStats& st = out.stats;
   Timer stage;
-  const SceneNodes nodes = ActiveGaussians(scene, features, removed, options, extra_seeds);
+  state->scene = ActiveGaussians(scene, features, removed, options, extra_seeds);
   out.excluded.resize(scene.size());
   for (std::size_t i = 0; i < scene.size(); ++i) {
-    out.excluded[i] = !nodes.active[i];
-    st.excluded_nonfinite += !nodes.active[i];
+    out.excluded[i] = !state->scene.active[i];
+    st.excluded_nonfinite += !state->scene.active[i];
   }
   RefineProblem& P = out.problem;
-  const std::vector<float> node_xyz = SelectCandidates(nodes, removed, options, out);
+  state->node_xyz = SelectCandidates(state->scene, removed, options, out, state->candidate);
   st.seconds_candidates = stage.Seconds();
   stage.Reset();
   KnnOptions ko;
   ko.k = options.k;
   ko.checks = options.knn_checks;
-  const KnnResult knn = KnnAmongPoints(node_xyz, ko);
-  st.knn_tie_retries = knn.tie_retries;
+  state->knn = KnnAmongPoints(state->node_xyz, ko);
+  st.knn_tie_retries = state->knn.tie_retries;
   st.seconds_knn = stage.Seconds();
   stage.Reset();
-  const SceneFeatureMap feature_map = FeatureMapFor(features, nodes.active, options, st);
+  const SceneFeatureMap feature_map = FeatureMapFor(features, state->scene.active, options, st);
   out.feature_mean = feature_map.mean;
-  const RowMatXf nf = NodeFeatures(feature_map, P.node_ids, out.zero_norm);
-  const double median_edge = MedianKnnEdgeLength(knn, node_xyz);  // σ_x and the removed parts' links
-  st.zero_norm_features = static_cast<std::size_t>(std::count(out.zero_norm.begin(), out.zero_norm.end(), 1));
-  if (options.normalize_features) {
-    st.second_object = FindSecondObject(knn, median_edge, P.y_remove, features, P.node_ids);
-    const bool guard = options.prior.second_object_guard != PriorSwitch::kOff;
-    const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
-    std::vector<double> upper;
-    const std::vector<double> mask = std::move(P.y_remove);  // the mask before the prior, for the groups
-    P.y_remove = FeaturePrior(nf, mask, options.prior, &st.prior, credit, &upper);
-    if (!st.second_object.Found()) st.whole_object_group = FindWholeObjectGroup(st.prior, upper, mask, P.node_ids);
-  }
-  SpatialScale(median_edge, nodes, P, options, st);
-  PairLists pairs = PairsAtSmallerEndpoint(knn, P.node_ids.size());
-  GateAndWeigh(pairs, nf, out.zero_norm, node_xyz, gate, options, P, st);
-  CountComponents(P, st);
+  state->node_features = NodeFeatures(feature_map, P.node_ids, out.zero_norm);
+  state->pairs = graph_internal::UniquePairs(state->knn, P.node_ids.size());
+  graph_internal::PairDistances(state->pairs, state->node_features, out.zero_norm);
+  graph_internal::FinishGraph(*state, features, options, out);
   st.seconds_edges = stage.Seconds();
-  AddGraphWarnings(out);
   st.seconds_total = total.Seconds();
+  out.growth = std::move(state);
   return out;
 }
 

@@ -281,4 +281,118 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
   return result;
 }
 
+
+namespace {
+
+// FLANN's exact kd-tree over n points (the data must outlive it), built on construction.
+struct ExactIndex : flann::KDTreeSingleIndex<flann::L2_Simple<float>> {
+  ExactIndex(float* data, std::size_t n)
+      : flann::KDTreeSingleIndex<flann::L2_Simple<float>>(flann::Matrix<float>(data, n, 3),
+                                                          flann::KDTreeSingleIndexParams(10)) {
+    buildIndex();
+  }
+};
+flann::SearchParams ExactSearch() { return flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false); }
+
+// The k smallest (distance, index) entries of a row and a sorted candidate list.
+void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<Entry>& extra) {
+  for (int c = 0; c < k; ++c)
+    if (nb[c] >= 0) extra.push_back({sd[c], nb[c]});
+  std::sort(extra.begin(), extra.end(), [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+  for (int c = 0; c < k; ++c) {
+    nb[c] = c < int(extra.size()) ? extra[std::size_t(c)].i : -1;
+    sd[c] = c < int(extra.size()) ? extra[std::size_t(c)].d : 0.0f;
+  }
+}
+
+// Squared distance from p to the box [lo, hi] (a lower bound of its distance to any point inside).
+double BoxDistance(const float* p, const float* lo, const float* hi) {
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double g = p[a] < lo[a] ? double(lo[a]) - p[a] : (p[a] > hi[a] ? double(p[a]) - hi[a] : 0.0);
+    s += g * g;
+  }
+  return s;
+}
+
+// The old points' lists: a point whose k-th neighbour is farther than some added point takes it in.
+void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t> new_of_old,
+                       std::span<const std::int32_t> added, KnnResult& r, std::size_t& retries) {
+  const int k = r.k;
+  const std::size_t m = added.size();
+  std::vector<float> axyz(3 * m);
+  float lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<float>::infinity(), hi[a] = -lo[a];
+  for (std::size_t t = 0; t < m; ++t)
+    for (int a = 0; a < 3; ++a) {
+      axyz[3 * t + a] = xyz[3 * std::size_t(added[t]) + a];
+      lo[a] = std::min(lo[a], axyz[3 * t + a]), hi[a] = std::max(hi[a], axyz[3 * t + a]);
+    }
+  const ExactIndex index(axyz.data(), m);
+  const flann::SearchParams params = ExactSearch();
+  const auto n_old = static_cast<std::int64_t>(new_of_old.size());
+#pragma omp parallel reduction(+ : retries)
+  {
+    std::vector<Entry> out;
+#pragma omp for schedule(dynamic, 4096)
+    for (std::int64_t u = 0; u < n_old; ++u) {
+      const std::size_t row = std::size_t(new_of_old[std::size_t(u)]);
+      const float* q = &xyz[3 * row];
+      std::int32_t* nb = &r.neighbors[row * k];
+      float* sd = &r.sq_dist[row * k];
+      // Rounding margin: FLANN's float distances against the box's double bound.
+      if (nb[k - 1] >= 0 && BoxDistance(q, lo, hi) > double(sd[k - 1]) * (1.0 + 1e-5) + 1e-30) continue;
+      Query(index, q, -1, k, m, params, out, retries);
+      for (Entry& e : out) e.i = added[std::size_t(e.i)];
+      MergeInto(nb, sd, k, out);
+    }
+  }
+}
+
+}  // namespace
+
+KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before,
+                             std::span<const std::int32_t> new_of_old, std::span<const std::int32_t> added,
+                             const KnnOptions& options) {
+  options.Check();
+  const std::size_t n = xyz.size() / 3;
+  const int k = std::max(0, std::min<int>(options.k, static_cast<int>(n) - 1));
+  if (k != before.k || k == 0 || added.empty() || options.checks > 0 ||
+      before.neighbors.size() != new_of_old.size() * std::size_t(k))
+    return KnnAmongPoints(xyz, options);
+  Timer timer;
+  KnnResult r;
+  r.k = k;
+  r.neighbors.assign(n * k, -1);
+  r.sq_dist.assign(n * k, 0.0f);
+  const auto n_old = static_cast<std::int64_t>(new_of_old.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < n_old; ++u)
+    for (int c = 0; c < k; ++c) {
+      const std::int32_t v = before.neighbors[std::size_t(u) * k + c];
+      r.neighbors[std::size_t(new_of_old[std::size_t(u)]) * k + c] = v >= 0 ? new_of_old[std::size_t(v)] : -1;
+      r.sq_dist[std::size_t(new_of_old[std::size_t(u)]) * k + c] = before.sq_dist[std::size_t(u) * k + c];
+    }
+  std::size_t retries = 0;
+  AddedIntoOldLists(xyz, new_of_old, added, r, retries);
+  const ExactIndex index(const_cast<float*>(xyz.data()), n);
+  const flann::SearchParams params = ExactSearch();
+  // The added points' own lists (few: a list buffer per query costs nothing here).
+  const auto m = static_cast<std::int64_t>(added.size());
+#pragma omp parallel for schedule(dynamic, 256) reduction(+ : retries)
+  for (std::int64_t t = 0; t < m; ++t) {
+    std::vector<Entry> out;
+    const std::int32_t i = added[std::size_t(t)];
+    Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, out, retries);
+    for (std::size_t c = 0; c < out.size(); ++c) {
+      r.neighbors[std::size_t(i) * k + c] = out[c].i;
+      r.sq_dist[std::size_t(i) * k + c] = out[c].d;
+    }
+  }
+  r.tie_retries = before.tie_retries + retries;
+  r.coincident = before.coincident;
+  r.seconds = timer.Seconds();
+  return r;
+}
+
 }  // namespace al

@@ -55,6 +55,7 @@ std::vector<double> Project(const RowMatXf& f, const std::vector<double>& mask, 
   Eigen::VectorXd p = in / std::max(n_in, 1.0) - out / std::max(n_out, 1.0);
   if (p.norm() > 0) p.normalize();
   std::vector<double> c(std::size_t(V), 0.0);
+#pragma omp parallel for schedule(static)
   for (Eigen::Index v = 0; v < V; ++v) c[std::size_t(v)] = f.row(v).cast<double>().dot(p);
   return c;
 }
@@ -84,11 +85,16 @@ std::vector<double> UpperPosterior(const std::vector<double>& c, const std::vect
     }
     pi1 = std::clamp(w[1] / (w[0] + w[1]), 1e-9, 1.0 - 1e-9);
     const double log_odds_prior = std::log(pi1) - std::log(1.0 - pi1);
-    for (std::size_t v = 0; v < V; ++v) {
-      if (!has[v]) continue;
+    const double half_log_var[2] = {0.5 * std::log(var[0]), 0.5 * std::log(var[1])};
+    // Each node's posterior on its own: parallel, and the same values whatever the thread count.
+    const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t v = 0; v < vv; ++v) {
+      if (!has[std::size_t(v)]) continue;
+      const double x = c[std::size_t(v)];
       double l[2];
-      for (int k = 0; k < 2; ++k) l[k] = -0.5 * (c[v] - mu[k]) * (c[v] - mu[k]) / var[k] - 0.5 * std::log(var[k]);
-      q[v] = 1.0 / (1.0 + std::exp(-std::clamp(log_odds_prior + l[1] - l[0], -50.0, 50.0)));
+      for (int k = 0; k < 2; ++k) l[k] = -0.5 * (x - mu[k]) * (x - mu[k]) / var[k] - half_log_var[k];
+      q[std::size_t(v)] = 1.0 / (1.0 + std::exp(-std::clamp(log_odds_prior + l[1] - l[0], -50.0, 50.0)));
     }
     if (it > 0 && change < 1e-7) break;
   }

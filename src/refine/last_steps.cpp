@@ -6,6 +6,7 @@
 #include <string>
 #include <utility>
 
+#include "al/core/timer.hpp"
 #include "al/graph/continuing_body.hpp"
 #include "al/graph/either_object.hpp"
 #include "al/graph/restore_window.hpp"
@@ -193,11 +194,13 @@ void BoundFeatureGroupCompletion(const RefineInputs& inputs, const GraphResult& 
 
 void RunLastSteps(const RefineInputs& inputs, const GraphResult& graph, const GraphOptions& options,
                   SolveOutcome& out) {
+  Timer timer;
   ScenePositions xyz(*inputs.scene);
   KeepRestoresTakenWhole(inputs, graph, options, xyz, out);
   KeepRestoresInWindow(inputs, graph, options, out);
   TrimOneSidedCompletion(inputs, graph, options, xyz, out);
   BoundFeatureGroupCompletion(inputs, graph, options, xyz, out);
+  out.last_steps_seconds = timer.Seconds();
 }
 
 }  // namespace al

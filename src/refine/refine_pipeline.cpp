@@ -104,6 +104,7 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
     timings["graph"] = grown.graph_seconds;
     timings["solve"] = grown.solve_seconds;
     timings["decide"] = std::max(0.0, total_s - grown.graph_seconds - grown.solve_seconds);
+    report["decide_seconds"] = {{"last_steps", grown.outcome.last_steps_seconds}};  // part of timings_s.decide
     if (o.on_stage) o.on_stage("graph", grown.graph_seconds), o.on_stage("solve", grown.solve_seconds);
     t.Reset();
   }

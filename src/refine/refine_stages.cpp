@@ -123,16 +123,28 @@ DecisionOptions ResolveRestore(const MethodPreset& preset, DecisionOptions decis
   return decision;
 }
 
-GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
-                            const std::vector<std::uint8_t>* extra_seeds) {
-  GraphOptions go = options;
+// The graph options with the feature kind and the preset's autos resolved.
+GraphOptions GraphOptionsFor(const RefineInputs& inputs, GraphOptions go) {
   go.normalize_features = !inputs.colour_fallback;
   ResolvePriorSwitch(inputs.preset.prototype_credit, go.prior.prototype_credit);
   ResolvePriorSwitch(inputs.preset.wide_credit, go.prior.wide_credit);
   if (go.centre == Centring::kAuto) go.centre = inputs.preset.centre;
   if (!go.prior.weight) go.prior.weight = inputs.preset.prior_weight;
   if (!go.feature_width) go.feature_width = inputs.preset.feature_width;
-  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, go, extra_seeds);
+  return go;
+}
+
+GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& options,
+                            const std::vector<std::uint8_t>* extra_seeds) {
+  return BuildRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, GraphOptionsFor(inputs, options),
+                          extra_seeds);
+}
+
+// A later growth round: only what the new seeds add is searched and compared (GrowRefineGraph).
+GraphResult GrowGraph(const RefineInputs& inputs, const GraphOptions& options, GraphResult previous,
+                      const std::vector<std::uint8_t>& grown) {
+  return GrowRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, GraphOptionsFor(inputs, options),
+                         std::move(previous), grown);
 }
 
 nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<bool>& before,
@@ -151,6 +163,36 @@ nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<
           {"restored", restored}, {"restored_background", restored_background},
           {"precision_restored", ratio(restored_background, restored)},
           {"over_removed", over}, {"over_removed_restored", ratio(restored_background, over)}};
+}
+
+// The previous round's solution on the grown graph's nodes (both lists ascending scene rows, the
+// old one a subset): each old node keeps its component and value, a new node has none.
+// A saturated component stays saturated only where no observation moved by more than this (the
+// prior is re-fitted on the grown candidate set, so every y moves a little): cp's own merge and
+// stopping tolerance.
+constexpr double kWarmSaturationTolerance = 1e-3;
+
+// The previous round's solution on the grown graph's nodes (both node lists ascending scene rows,
+// the old one a subset): each old node keeps its component and value, a new node has none.
+SolverWarmStart WarmStartFor(const RefineProblem& old_problem, const SolveOutcome& before, const RefineProblem& grown) {
+  SolverWarmStart w;
+  const std::vector<std::int64_t>&old_ids = old_problem.node_ids, &new_ids = grown.node_ids;
+  if (before.partition.size() != old_ids.size() || before.p.size() != old_ids.size()) return w;
+  w.component.assign(new_ids.size(), -1);
+  std::int32_t components = 0;
+  for (std::int32_t c : before.partition) components = std::max(components, c + 1);
+  w.value.assign(std::size_t(components), 0.0);
+  w.saturated = before.saturated;
+  if (w.saturated.size() != w.value.size()) w.saturated.assign(w.value.size(), 0);
+  for (std::size_t v = 0, o = 0; v < new_ids.size() && o < old_ids.size(); ++v) {
+    if (new_ids[v] != old_ids[o]) continue;
+    const std::size_t c = std::size_t(before.partition[o]);
+    w.component[v] = before.partition[o];
+    w.value[c] = before.p[o];
+    if (std::abs(grown.y_remove[v] - old_problem.y_remove[o]) > kWarmSaturationTolerance) w.saturated[c] = 0;
+    ++o;
+  }
+  return w;
 }
 
 // In-memory features: the caller's (N, D) float array (float32 borrowed, other float types
@@ -399,13 +441,18 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
   GrownSolve r;
   r.graph = std::move(first);
   for (int round = 0;; ++round) {
+    std::optional<SolverWarmStart> warm;
     if (round) {
       Timer t;
-      r.graph = BuildGraphGrown(inputs, options, &grown);
+      RefineProblem old_nodes;  // what the warm start needs of the last graph
+      old_nodes.node_ids = r.graph.problem.node_ids;
+      old_nodes.y_remove = r.graph.problem.y_remove;
+      r.graph = GrowGraph(inputs, options, std::move(r.graph), grown);
+      warm = WarmStartFor(old_nodes, r.outcome, r.graph.problem);
       r.graph_seconds += t.Seconds();
     }
     r.rounds = round + 1;
-    r.outcome = SolveAndDecide(inputs, r.graph, options, solver, decision);
+    r.outcome = SolveAndDecide(inputs, r.graph, options, solver, decision, warm ? &*warm : nullptr);
     if (!r.outcome.empty_graph) r.solve_seconds += r.outcome.solver.value("seconds", 0.0);
     if (r.outcome.empty_graph || options.grow_rounds == 0) break;
     std::vector<std::size_t> fresh;  // added now, not yet grown around
@@ -428,7 +475,8 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
 }
 
 SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
-                            const GraphOptions& go, Solver& solver, const DecisionOptions& decision) {
+                            const GraphOptions& go, Solver& solver, const DecisionOptions& decision,
+                            const SolverWarmStart* warm) {
   SolveOutcome out;
   const GraphStats& gs = graph.stats;
   const std::size_t num_removed = inputs.removal.num_removed;
@@ -450,7 +498,10 @@ SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph
     out.decision = {{"rule", decision.rule.ToString()}, {"skipped", true}};
     return out;
   }
-  SolverResult sr = solver.Solve(graph.problem);
+  SolverResult sr = warm && !warm->component.empty() ? solver.SolveFrom(graph.problem, *warm)
+                                                     : solver.Solve(graph.problem);
+  out.partition = std::move(sr.partition);
+  out.saturated = std::move(sr.saturated);
   out.warnings = sr.warnings;
   out.solver = sr.ToJson();
   const DecisionOptions resolved = ResolveRestore(inputs.preset, decision);

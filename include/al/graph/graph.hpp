@@ -3,6 +3,7 @@
 // RefineProblem every solver takes.
 #pragma once
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -128,6 +129,8 @@ struct GraphStats {
   std::string BriefReport() const;  // "nodes 1234 (removed 800), edges 5678 of 9000 kNN, 3 components"
 };
 
+struct GraphGrowthState;  // src/graph/graph_internal.hpp
+
 struct GraphResult {
   RefineProblem problem;                // nodes in ascending scene index
   GraphStats stats;
@@ -135,6 +138,8 @@ struct GraphResult {
   std::vector<std::uint8_t> zero_norm;  // per node: feature of zero norm
   Eigen::VectorXd feature_mean;         // the scene's mean unit feature (zero when not centring)
   std::vector<std::string> warnings;
+  // What a later round of candidate growth reuses (GrowRefineGraph); shared by copies of the result.
+  std::shared_ptr<GraphGrowthState> growth;
 };
 
 // features: N×D rows (scene order); D = 0 is an error (use ColourFeatures). removed: N.
@@ -144,6 +149,16 @@ struct GraphResult {
 GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features,
                              const std::vector<bool>& removed, const GraphOptions& options = {},
                              const std::vector<std::uint8_t>* extra_seeds = nullptr);
+
+// A later round of candidate growth (the refine stages): the graph BuildRefineGraph would return
+// for extra_seeds, from `previous`, built from the same scene, features, removed set and options
+// with fewer extra seeds. Only the new candidates are searched, queried for their kNN and
+// compared feature by feature; the old nodes' lists change only where a new node comes closer
+// than their k-th neighbour. With hops > 1 or approximate kNN (knn_checks > 0), or without
+// previous.growth, it builds the graph anew. The result is the same either way.
+GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
+                            const GraphOptions& options, GraphResult previous,
+                            const std::vector<std::uint8_t>& extra_seeds);
 
 // Median non-zero length of the kNN edges among the points xyz (n×3 row-major); 0 when every edge
 // has length 0 or there is none. The graph's σ_x, and the link length of the removed set's parts.

@@ -32,6 +32,17 @@ struct KnnResult {
 // xyz: n×3 row-major.
 KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options = {});
 
+// The same lists after points were added (a later round of candidate growth): xyz holds all n
+// points, before the lists of the old ones (in their own numbering), new_of_old maps an old index
+// to its index in xyz (ascending: the order of the old points is kept) and added lists the new
+// points' indices. Only the added points are queried; an old point's list changes only where an
+// added point comes closer than its k-th neighbour (tested against the added points' kd-tree).
+// Equal to KnnAmongPoints(xyz) (exact search only; approximate search, or a k that grows with n,
+// falls back to it). `coincident` keeps before's count.
+KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before,
+                             std::span<const std::int32_t> new_of_old, std::span<const std::int32_t> added,
+                             const KnnOptions& options = {});
+
 // 63-bit Morton code order of the points (ties by index); exposed for the benchmarks.
 std::vector<std::int32_t> MortonOrder(std::span<const float> xyz);
 

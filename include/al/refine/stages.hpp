@@ -74,21 +74,27 @@ struct SolveOutcome {
   std::string message;                // one human-readable summary
   std::vector<bool> refined;          // N (the input mask for an empty graph)
   std::vector<double> p;              // per graph node (empty for an empty graph)
+  std::vector<std::int32_t> partition;  // per graph node: cp's component (empty for other solvers)
+  std::vector<std::uint8_t> saturated;  // per cp component: saturated at the end
   std::size_t added = 0, restored = 0;
   nlohmann::json solver = nlohmann::json::object();    // name, objective, iterations, seconds, ...
   nlohmann::json decision = nlohmann::json::object();  // rule, threshold, counts
   std::vector<std::string> warnings;
+  double last_steps_seconds = 0.0;    // RunLastSteps (a part of the refine report's timings_s.decide)
 };
 
 // Solves the graph's problem and applies the decision rule. An edgeless graph is not an error: the
 // outcome is empty_graph with an actionable message (naming the graph options that produced it)
 // and refined = the input removed set.
+// With warm (a previous round's solution mapped onto this graph's nodes) the solver starts from it
+// (Solver::SolveFrom).
 SolveOutcome SolveAndDecide(const RefineInputs& inputs, const GraphResult& graph,
                             const GraphOptions& graph_options, Solver& solver,
-                            const DecisionOptions& decision);
+                            const DecisionOptions& decision, const SolverWarmStart* warm = nullptr);
 
 // Builds the graph and solves it. With options.grow_rounds > 0 the candidate set then also grows
-// one hop around every Gaussian the cut added, and the enlarged graph is solved again, until a
+// one hop around every Gaussian the cut added, and the enlarged graph is built from the previous
+// one (GrowRefineGraph) and solved again from the previous solution (Solver::SolveFrom), until a
 // round adds fewer new Gaussians than 0.5 % of the removed count or the rounds run out (`capped`,
 // a warning). The observations always come from the input mask. An unset (auto) λ takes the
 // preset's value for this solver (MethodPreset::LambdaFor); graph.stats.lambda says which.

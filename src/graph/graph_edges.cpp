@@ -1,0 +1,117 @@
+// The graph's edges from its kNN lists (SPEC §4.4-4.6): unique pairs at the smaller node, their
+// feature distances (reused across growth rounds), the gate and the weights. Parallel loops write
+// per-node slots only; counts are summed in node order: thread-count independent.
+#include <algorithm>
+#include <cmath>
+
+#include "src/graph/graph_internal.hpp"
+
+namespace al::graph_internal {
+namespace {
+
+double FeatureDistance(const RowMatXf& nf, std::int64_t u, std::int64_t v) {
+  const float* fu = nf.row(u).data();
+  const float* fv = nf.row(v).data();
+  double df2 = 0;
+  for (Eigen::Index d = 0; d < nf.cols(); ++d) {
+    const double t = double(fu[d]) - double(fv[d]);
+    df2 += t * t;
+  }
+  return df2;
+}
+
+// The previous round's distance of the pair (a, b), a < b in its numbering; NaN when it had no such pair.
+double Cached(const PairCache& previous, std::int32_t a, std::int32_t b) {
+  const auto first = previous.other.begin() + previous.row_start[std::size_t(a)];
+  const auto last = previous.other.begin() + previous.row_start[std::size_t(a) + 1];
+  const auto it = std::lower_bound(first, last, b);
+  return it != last && *it == b ? previous.df2[std::size_t(it - previous.other.begin())] : std::nan("");
+}
+
+}  // namespace
+
+PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
+  const int K = knn.k;
+  PairCache pc{std::vector<std::int64_t>(V + 1, 0), {}, {}};
+  std::vector<std::int64_t> start(V + 1, 0);
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < K; ++c) {
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) ++start[std::min<std::size_t>(u, v) + 1];
+    }
+  for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
+  std::vector<std::int32_t> all(std::size_t(start[V]));
+  std::vector<std::int64_t> cur(start.begin(), start.end() - 1);
+  for (std::size_t u = 0; u < V; ++u)
+    for (int c = 0; c < K; ++c) {
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) all[std::size_t(cur[std::min<std::size_t>(u, v)]++)] = std::int32_t(std::max<std::size_t>(u, v));
+    }
+  std::vector<std::int64_t> count(V, 0);
+  const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(dynamic, 2048)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    auto* b = all.data() + start[u];
+    auto* e = all.data() + start[u + 1];
+    std::sort(b, e);
+    count[u] = std::unique(b, e) - b;
+  }
+  for (std::size_t u = 0; u < V; ++u) pc.row_start[u + 1] = pc.row_start[u] + count[u];
+  pc.other.resize(std::size_t(pc.row_start[V]));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
+    std::copy_n(all.begin() + start[u], count[u], pc.other.begin() + pc.row_start[u]);
+  return pc;
+}
+
+void PairDistances(PairCache& pc, const RowMatXf& nf, const std::vector<std::uint8_t>& zero_norm,
+                   const PairCache* previous, const std::vector<std::int32_t>* old_of) {
+  const auto V = static_cast<std::int64_t>(pc.row_start.size()) - 1;
+  pc.df2.assign(pc.other.size(), 0.0);
+#pragma omp parallel for schedule(dynamic, 2048)
+  for (std::int64_t u = 0; u < V; ++u)
+    for (std::int64_t e = pc.row_start[u]; e < pc.row_start[u + 1]; ++e) {
+      const std::int32_t v = pc.other[std::size_t(e)];
+      if (zero_norm[std::size_t(u)] || zero_norm[std::size_t(v)]) {
+        pc.df2[std::size_t(e)] = -1.0;
+        continue;
+      }
+      double d = std::nan("");
+      if (previous && (*old_of)[std::size_t(u)] >= 0 && (*old_of)[std::size_t(v)] >= 0)
+        d = Cached(*previous, (*old_of)[std::size_t(u)], (*old_of)[std::size_t(v)]);
+      pc.df2[std::size_t(e)] = std::isnan(d) ? FeatureDistance(nf, u, v) : d;
+    }
+}
+
+void GateAndWeigh(const PairCache& pc, const std::vector<float>& node_xyz, double gate, const GraphOptions& options,
+                  RefineProblem& P, GraphStats& st) {
+  const std::size_t V = P.node_ids.size();
+  const double sf2 = st.sigma_f * st.sigma_f, sx2 = st.sigma_x * st.sigma_x;
+  std::vector<std::int64_t> kept(V, 0);
+  const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(dynamic, 2048)
+  for (std::int64_t u = 0; u < vv; ++u)
+    for (std::int64_t e = pc.row_start[u]; e < pc.row_start[u + 1]; ++e)
+      kept[u] += pc.df2[std::size_t(e)] >= 0.0 && std::sqrt(pc.df2[std::size_t(e)]) <= gate;
+  P.first_edge.assign(V + 1, 0);
+  for (std::size_t u = 0; u < V; ++u) P.first_edge[u + 1] = P.first_edge[u] + kept[u];
+  st.edges_knn = pc.other.size();
+  P.adj_vertices.resize(std::size_t(P.first_edge[V]));
+  P.edge_weights.resize(std::size_t(P.first_edge[V]));
+#pragma omp parallel for schedule(dynamic, 2048)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    std::int64_t at = P.first_edge[u];
+    for (std::int64_t e = pc.row_start[u]; e < pc.row_start[u + 1]; ++e) {
+      const double df2 = pc.df2[std::size_t(e)];
+      if (!(df2 >= 0.0 && std::sqrt(df2) <= gate)) continue;
+      const std::int32_t v = pc.other[std::size_t(e)];
+      double w = options.Lambda() * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
+      if (options.spatial && sx2 > 0) w *= std::exp(-SquaredDistance(node_xyz, std::size_t(u), std::size_t(v)) / sx2);
+      P.adj_vertices[std::size_t(at)] = v;
+      P.edge_weights[std::size_t(at++)] = w;
+    }
+  }
+  st.edges = P.adj_vertices.size();
+}
+
+}  // namespace al::graph_internal
