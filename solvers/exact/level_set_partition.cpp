@@ -1,0 +1,375 @@
+// Level-set partition by recursive level cuts over connected pieces (level_set_partition.hpp).
+// Rounds = depths: every piece of a round is cut independently (in parallel), then one write phase
+// records the children's intervals. During a round a thread reads only data written before it
+// (owner_, lo_) and writes only its own piece's nodes (local_, side_), so there are no races.
+#include "solvers/exact/level_set_partition.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace al::levelset {
+namespace {
+
+struct Piece {
+  std::vector<std::int32_t> members;
+  double lo = 0.0, hi = 1.0;
+  int depth = 0;
+};
+
+// What cutting one piece gave: final (at level t, plateau or not) or child pieces.
+struct Outcome {
+  bool final = false, plateau = false;
+  double t = 0.0;
+  std::vector<Piece> children;
+};
+
+// Per-thread scratch, reused by every piece the thread cuts.
+struct Workspace {
+  MaxFlow* mf = nullptr;
+  std::vector<double> bnd;
+  std::vector<std::int32_t> queue;
+  std::vector<char> visited;
+  std::int64_t flows = 0;
+};
+
+class Run {
+ public:
+  Run(const TwoLabelTv& pb, const Options& opt)
+      : pb_(pb), opt_(opt), V_(pb.num_nodes()), owner_(V_, 0), local_(V_, 0), side_(V_, 0),
+        lo_(V_, 0.0), final_of_(V_, -1) {
+    BuildAdjacency();
+    Renumber();
+  }
+  Partition Solve(std::vector<MaxFlow>* networks);
+
+ private:
+  // φ'_v(t) and φ''_v(t) (§11), v in the internal numbering.
+  double Dphi(std::int32_t v, double t) const {
+    return w_[v] * (pb_.loss.Grad(y_[2 * v], t) - pb_.loss.Grad(y_[2 * v + 1], 1.0 - t));
+  }
+  double Ddphi(std::int32_t v, double t) const {
+    return w_[v] * (pb_.loss.Hess(y_[2 * v], t) + pb_.loss.Hess(y_[2 * v + 1], 1.0 - t));
+  }
+  void BuildAdjacency();
+  void Renumber();
+  std::vector<Piece> InitialPieces();
+  void Boundary(const Piece& g, std::int32_t id, Workspace& ws);
+  double PlateauLevel(const Piece& g, const Workspace& ws) const;
+  bool LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws);
+  void SideComponents(const Piece& g, std::int32_t id, double t, Workspace& ws, std::vector<Piece>& out);
+  Outcome Process(const Piece& g, std::int32_t id, Workspace& ws);
+  void Commit(const std::vector<Piece>& round, std::vector<Outcome>& outcomes, std::vector<Piece>& next);
+  Partition Number() const;
+
+  const TwoLabelTv& pb_;
+  const Options& opt_;
+  const std::int32_t V_;
+  // Internally nodes are numbered in breadth-first order (order_[internal] = caller's id), so that
+  // neighbours sit close in memory: the caller's order is often spatially random (a kNN graph over
+  // a scene's Gaussians) and every pass below walks neighbourhoods.
+  std::vector<std::int32_t> order_;
+  std::vector<double> y_, w_;
+  // Symmetric adjacency without zero-weight edges and self-loops, om = omega_scale · w_e.
+  std::vector<std::int64_t> ff_;
+  std::vector<std::int32_t> nbr_;
+  std::vector<double> om_;
+  std::vector<std::int32_t> owner_;  // piece of the node in the current round, -1 once final
+  std::vector<std::int32_t> local_;  // position of the node in its piece
+  std::vector<char> side_;           // 1 = above the last level cut of its piece
+  std::vector<double> lo_;           // lower end of the node's interval (its value once final)
+  std::vector<std::int32_t> final_of_;  // index into the finals below
+  std::vector<double> fin_t_, fin_lo_, fin_hi_;
+  std::vector<std::uint8_t> fin_plateau_;
+  int max_depth_ = 0;
+};
+
+void Run::BuildAdjacency() {
+  ff_.assign(static_cast<std::size_t>(V_) + 1, 0);
+  const auto keep = [&](std::int32_t u, std::int64_t e) {
+    return pb_.edge_weights[e] > 0.0 && pb_.adj_vertices[e] != u;
+  };
+  for (std::int32_t u = 0; u < V_; ++u)
+    for (std::int64_t e = pb_.first_edge[u]; e < pb_.first_edge[u + 1]; ++e)
+      if (keep(u, e)) { ++ff_[u + 1]; ++ff_[pb_.adj_vertices[e] + 1]; }
+  for (std::int32_t v = 0; v < V_; ++v) ff_[v + 1] += ff_[v];
+  nbr_.resize(ff_[V_]);
+  om_.resize(ff_[V_]);
+  std::vector<std::int64_t> pos(ff_.begin(), ff_.end() - 1);
+  for (std::int32_t u = 0; u < V_; ++u)
+    for (std::int64_t e = pb_.first_edge[u]; e < pb_.first_edge[u + 1]; ++e) {
+      if (!keep(u, e)) continue;
+      const std::int32_t v = pb_.adj_vertices[e];
+      const double om = pb_.omega_scale * pb_.edge_weights[e];
+      nbr_[pos[u]] = v; om_[pos[u]++] = om;
+      nbr_[pos[v]] = u; om_[pos[v]++] = om;
+    }
+}
+
+// Breadth-first order over the whole graph from the caller's smallest unvisited node: each
+// connected component becomes a contiguous range. Then the adjacency, observations and weights are
+// rewritten in that numbering.
+void Run::Renumber() {
+  order_.reserve(V_);
+  std::vector<std::int32_t> perm(V_, -1);
+  for (std::int32_t s = 0; s < V_; ++s) {
+    if (perm[s] >= 0) continue;
+    perm[s] = static_cast<std::int32_t>(order_.size());
+    order_.push_back(s);
+    for (std::size_t h = perm[s]; h < order_.size(); ++h) {
+      const std::int32_t v = order_[h];
+      for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k)
+        if (perm[nbr_[k]] < 0) { perm[nbr_[k]] = static_cast<std::int32_t>(order_.size()); order_.push_back(nbr_[k]); }
+    }
+  }
+  std::vector<std::int64_t> ff(static_cast<std::size_t>(V_) + 1, 0);
+  std::vector<std::int32_t> nbr(nbr_.size());
+  std::vector<double> om(om_.size());
+  y_.resize(2 * static_cast<std::size_t>(V_));
+  w_.resize(V_);
+  for (std::int32_t i = 0; i < V_; ++i) {
+    const std::int32_t v = order_[i];
+    std::int64_t pos = ff[i];
+    for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k, ++pos) { nbr[pos] = perm[nbr_[k]]; om[pos] = om_[k]; }
+    ff[i + 1] = pos;
+    y_[2 * i] = pb_.y[2 * v];
+    y_[2 * i + 1] = pb_.y[2 * v + 1];
+    w_[i] = pb_.node_weights.empty() ? 1.0 : pb_.node_weights[v];
+  }
+  ff_.swap(ff);
+  nbr_.swap(nbr);
+  om_.swap(om);
+}
+
+// The connected components of the whole graph: contiguous ranges of the internal numbering.
+std::vector<Piece> Run::InitialPieces() {
+  std::vector<Piece> pieces;
+  std::vector<char> seen(V_, 0);
+  for (std::int32_t s = 0; s < V_; ++s) {
+    if (seen[s]) continue;
+    Piece p;
+    std::int32_t end = s + 1;
+    seen[s] = 1;
+    for (std::int32_t v = s; v < end; ++v)
+      for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k)
+        if (!seen[nbr_[k]]) { seen[nbr_[k]] = 1; ++end; }
+    p.members.resize(end - s);
+    std::iota(p.members.begin(), p.members.end(), s);
+    pieces.push_back(std::move(p));
+  }
+  return pieces;
+}
+
+// Numbers the piece's nodes and sums each one's boundary term: a neighbour outside the piece lies
+// entirely above (lo_ >= hi) or below it, and pulls the node towards its side by ω.
+void Run::Boundary(const Piece& g, std::int32_t id, Workspace& ws) {
+  const std::int32_t n = static_cast<std::int32_t>(g.members.size());
+  for (std::int32_t i = 0; i < n; ++i) local_[g.members[i]] = i;
+  ws.bnd.assign(n, 0.0);
+  for (std::int32_t i = 0; i < n; ++i) {
+    const std::int32_t v = g.members[i];
+    double b = 0.0;
+    for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
+      const std::int32_t u = nbr_[k];
+      if (owner_[u] == id) continue;
+      b += lo_[u] >= g.hi ? -om_[k] : om_[k];
+    }
+    ws.bnd[i] = b;
+  }
+}
+
+// The level where the piece's summed derivative crosses zero (safeguarded Newton), within [lo, hi]:
+// the best constant value of the piece given its boundary.
+double Run::PlateauLevel(const Piece& g, const Workspace& ws) const {
+  const std::int32_t n = static_cast<std::int32_t>(g.members.size());
+  auto f = [&](double x, double* df) {
+    double s = 0.0, ds = 0.0;
+    for (std::int32_t i = 0; i < n; ++i) {
+      s += Dphi(g.members[i], x) + ws.bnd[i];
+      if (df) ds += Ddphi(g.members[i], x);
+    }
+    if (df) *df = ds;
+    return s;
+  };
+  if (f(g.lo, nullptr) >= 0.0) return g.lo;
+  if (f(g.hi, nullptr) <= 0.0) return g.hi;
+  double a0 = g.lo, b0 = g.hi;
+  double t = 0.5 * (a0 + b0);
+  for (int iter = 0; iter < 200; ++iter) {
+    double df;
+    const double ft = f(t, &df);
+    if (ft == 0.0) break;
+    if (ft < 0.0) a0 = t; else b0 = t;
+    double next = df > 0.0 ? t - ft / df : 0.5 * (a0 + b0);
+    if (!(next > a0 && next < b0)) next = 0.5 * (a0 + b0);
+    if (std::fabs(next - t) <= 1e-16 * std::max(1.0, std::fabs(t)) || b0 - a0 <= 1e-16) return next;
+    t = next;
+  }
+  return t;
+}
+
+// Level cut at t: the sink side ("above", side_ = 1) pays a_v = φ'_v(t) + boundary. Returns true
+// when the cut gains nothing (min cut energy = flow − Σ negative unaries >= 0 up to rounding).
+bool Run::LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws) {
+  const std::int32_t n = static_cast<std::int32_t>(g.members.size());
+  MaxFlow& mf = *ws.mf;
+  mf.Reset(n);
+  double neg = 0.0, scale = 0.0;
+  for (std::int32_t i = 0; i < n; ++i) {
+    const std::int32_t v = g.members[i];
+    const double a = Dphi(v, t) + ws.bnd[i];
+    mf.AddUnary(i, a);
+    if (a < 0.0) neg -= a;
+    scale += std::fabs(a);
+    for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
+      const std::int32_t u = nbr_[k];
+      if (u > v && owner_[u] == id) mf.AddEdge(i, local_[u], om_[k], om_[k]);
+    }
+  }
+  const double flow = mf.Solve();
+  ++ws.flows;
+  for (std::int32_t i = 0; i < n; ++i) side_[g.members[i]] = mf.SourceSide(i) ? 0 : 1;
+  return flow - neg >= -1e-12 * std::max(scale, 1e-300);
+}
+
+// The connected components of each side of the cut (edges inside the piece joining nodes on the
+// same side): above in [t, hi], below in [lo, t].
+void Run::SideComponents(const Piece& g, std::int32_t id, double t, Workspace& ws, std::vector<Piece>& out) {
+  const std::int32_t n = static_cast<std::int32_t>(g.members.size());
+  ws.visited.assign(n, 0);
+  for (std::int32_t i0 = 0; i0 < n; ++i0) {
+    if (ws.visited[i0]) continue;
+    const std::int32_t s = g.members[i0];
+    const char side = side_[s];
+    Piece p{{s}, side ? t : g.lo, side ? g.hi : t, g.depth + 1};
+    ws.visited[i0] = 1;
+    for (std::size_t h = 0; h < p.members.size(); ++h) {
+      const std::int32_t v = p.members[h];
+      for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
+        const std::int32_t u = nbr_[k];
+        if (owner_[u] != id || side_[u] != side || ws.visited[local_[u]]) continue;
+        ws.visited[local_[u]] = 1;
+        p.members.push_back(u);
+      }
+    }
+    out.push_back(std::move(p));
+  }
+}
+
+Outcome Run::Process(const Piece& g, std::int32_t id, Workspace& ws) {
+  Boundary(g, id, ws);
+  Outcome out;
+  const bool plateau_pivot = !opt_.bisection;
+  out.t = plateau_pivot ? PlateauLevel(g, ws) : 0.5 * (g.lo + g.hi);
+  if (g.hi - g.lo <= opt_.epsilon) {
+    out.final = true;
+    return out;
+  }
+  // One node: its best constant is exact (a cut could only confirm it).
+  if (plateau_pivot && g.members.size() == 1) {
+    out.final = out.plateau = true;
+    return out;
+  }
+  const bool no_gain = LevelCut(g, id, out.t, ws);
+  std::int64_t above = 0;
+  for (std::int32_t v : g.members) above += side_[v];
+  const bool one_sided = above == 0 || above == static_cast<std::int64_t>(g.members.size());
+  if (plateau_pivot && (one_sided || no_gain)) {
+    out.final = out.plateau = true;
+    return out;
+  }
+  SideComponents(g, id, out.t, ws, out.children);
+  return out;
+}
+
+// The write phase between rounds: children take their interval and their index in the next round,
+// final pieces their value.
+void Run::Commit(const std::vector<Piece>& round, std::vector<Outcome>& outcomes, std::vector<Piece>& next) {
+  for (std::size_t i = 0; i < round.size(); ++i) {
+    const Piece& g = round[i];
+    max_depth_ = std::max(max_depth_, g.depth);
+    Outcome& o = outcomes[i];
+    if (o.final) {
+      const std::int32_t f = static_cast<std::int32_t>(fin_t_.size());
+      fin_t_.push_back(o.t);
+      fin_lo_.push_back(g.lo);
+      fin_hi_.push_back(g.hi);
+      fin_plateau_.push_back(o.plateau ? 1 : 0);
+      for (std::int32_t v : g.members) { owner_[v] = -1; lo_[v] = o.t; final_of_[v] = f; }
+      continue;
+    }
+    for (Piece& c : o.children) {
+      const std::int32_t j = static_cast<std::int32_t>(next.size());
+      for (std::int32_t v : c.members) { owner_[v] = j; lo_[v] = c.lo; }
+      next.push_back(std::move(c));
+    }
+  }
+}
+
+// Final pieces numbered by their smallest node (the caller's numbering).
+Partition Run::Number() const {
+  Partition part;
+  part.piece.assign(V_, -1);
+  std::vector<std::int32_t> id(fin_t_.size(), -1);
+  std::vector<std::int32_t> perm(V_);
+  for (std::int32_t i = 0; i < V_; ++i) perm[order_[i]] = i;
+  for (std::int32_t v = 0; v < V_; ++v) {
+    const std::int32_t f = final_of_[perm[v]];
+    std::int32_t& c = id[f];
+    if (c < 0) {
+      c = static_cast<std::int32_t>(part.value.size());
+      part.value.push_back(fin_t_[f]);
+      part.lo.push_back(fin_lo_[f]);
+      part.hi.push_back(fin_hi_[f]);
+      part.plateau.push_back(fin_plateau_[f]);
+    }
+    part.piece[v] = c;
+  }
+  part.max_depth = max_depth_;
+  return part;
+}
+
+Partition Run::Solve(std::vector<MaxFlow>* networks) {
+  const int threads = std::max(1, opt_.num_threads);
+  std::vector<MaxFlow> own;
+  if (networks == nullptr || static_cast<int>(networks->size()) < threads) {
+    own.resize(threads);
+    networks = &own;
+  }
+  std::vector<Workspace> ws(threads);
+  for (int k = 0; k < threads; ++k) {
+    ws[k].mf = &(*networks)[k];
+    ws[k].mf->set_algorithm(opt_.max_flow);
+  }
+  std::vector<Piece> round = InitialPieces();
+  for (std::size_t j = 0; j < round.size(); ++j)
+    for (std::int32_t v : round[j].members) owner_[v] = static_cast<std::int32_t>(j);
+  while (!round.empty()) {
+    // Largest pieces first for load balance; the order never changes a piece's outcome.
+    std::vector<std::int32_t> order(round.size());
+    std::iota(order.begin(), order.end(), 0);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::int32_t a, std::int32_t b) { return round[a].members.size() > round[b].members.size(); });
+    std::vector<Outcome> outcomes(round.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (round.size() > 1)
+    for (std::size_t k = 0; k < order.size(); ++k)
+      outcomes[order[k]] = Process(round[order[k]], order[k], ws[omp_get_thread_num()]);
+    std::vector<Piece> next;
+    Commit(round, outcomes, next);
+    round = std::move(next);
+  }
+  Partition part = Number();
+  for (const Workspace& w : ws) part.max_flows += w.flows;
+  return part;
+}
+
+}  // namespace
+
+Partition SolveLevelSets(const TwoLabelTv& problem, const Options& options, std::vector<MaxFlow>* networks) {
+  if (problem.num_nodes() <= 0) return {};
+  return Run(problem, options).Solve(networks);
+}
+
+}  // namespace al::levelset
