@@ -16,6 +16,7 @@
 #include "al/core/timer.hpp"
 #include "solvers/cut_pursuit/cp_context.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
+#include "solvers/exact/level_set_partition.hpp"
 
 namespace al::cp {
 namespace {
@@ -212,6 +213,35 @@ Iterate WarmIterate(const Context& cx, const WarmStart& w) {
     if (w.comp[v] >= 0) continue;
     for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) it.saturated[it.comp[cx.full_nbr[k]]] = 0;
   }
+  return it;
+}
+
+// The D = 2 cold start (Init::kLevelSets): the level-set partition of §11 down to intervals of
+// init_epsilon. Its pieces are connected and ordered exactly as the optimum's values; a piece whose
+// level cut gained nothing is an optimal plateau and starts saturated (§7 desaturates it if its
+// value moves), the others start at their best constant and are split by the loop.
+Iterate LevelSetIterate(const Context& cx, std::vector<MaxFlow>& networks, int threads, CutPursuitResult& res) {
+  Timer timer;
+  const levelset::TwoLabelTv tv{cx.pb.first_edge, cx.pb.adj_vertices, cx.pb.edge_weights, cx.pb.y, cx.nw,
+                                cx.m[0] + cx.m[1], cx.loss};
+  levelset::Options lopt;
+  lopt.epsilon = cx.opt.init_epsilon > 0.0 ? cx.opt.init_epsilon : 0.5 * cx.opt.cp_dif_tol;
+  lopt.num_threads = threads;
+  lopt.max_flow = cx.opt.max_flow;
+  levelset::Partition part = levelset::SolveLevelSets(tv, lopt, &networks);
+  Iterate it{std::move(part.piece), static_cast<std::int32_t>(part.value.size()), {}, {}};
+  it.rX.resize(2 * part.value.size());
+  it.saturated.resize(part.value.size());
+  for (std::size_t c = 0; c < part.value.size(); ++c) {
+    it.rX[2 * c] = part.value[c];
+    it.rX[2 * c + 1] = 1.0 - part.value[c];
+    // Every node's optimum lies in [lo, hi]: no split can move it by more than 2 (hi - lo) in l1.
+    it.saturated[c] = part.plateau[c] || 2.0 * (part.hi[c] - part.lo[c]) <= cx.opt.cp_dif_tol;
+    res.init_plateaus += part.plateau[c];
+  }
+  res.init_max_flows = part.max_flows;
+  res.init_pieces = it.rV;
+  res.init_seconds = timer.Seconds();
   return it;
 }
 
@@ -476,7 +506,13 @@ Iterate OuterIteration(const Context& cx, const PfdrOptions& popt, Iterate& it, 
   res.reduce_seconds.push_back(phase.Seconds());
   phase.Reset();
   std::vector<double> X;
-  res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+  if (cx.D == 2 && cx.opt.reduced_solver == CutPursuitOptions::Reduced::kLevelSets) {
+    res.reduced_max_flows.push_back(SolveReducedLevelSets(rp, {1e-10, threads, cx.opt.max_flow}, buf.networks, X));
+    res.pfdr_iterations.push_back(0);
+  } else {
+    res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+    res.reduced_max_flows.push_back(0);
+  }
   res.pfdr_seconds.push_back(phase.Seconds());
   phase.Reset();
   Iterate next = MergePieces(cx, rp, X, it, buf.cfirst, pieces);
@@ -510,11 +546,13 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
     res.objective_history.push_back(0.0);
     return res;
   }
-  Iterate it = warm ? WarmIterate(cx, *warm) : InitialIterate(cx);
+  SplitBuffers buf = MakeSplitBuffers(cx.V, threads, opt.max_flow);
+  const bool level_sets = !warm && cx.D == 2 && opt.init == CutPursuitOptions::Init::kLevelSets;
+  Iterate it = warm ? WarmIterate(cx, *warm) : level_sets ? LevelSetIterate(cx, buf.networks, threads, res)
+                                                          : InitialIterate(cx);
   res.objective_history.push_back(SimplexObjective(pb, it.comp, it.rX));
   Iterate best = it;
   double best_obj = res.objective_history[0];
-  SplitBuffers buf = MakeSplitBuffers(cx.V, threads, opt.max_flow);
   bool stalled = false;
   while (res.iterations < opt.cp_it_max && (res.dif_history.empty() || res.dif_history.back() > opt.cp_dif_tol)) {
     bool any_split = false;
