@@ -120,38 +120,14 @@ struct SplitRound {
   std::int64_t cut_nodes = 0;  // vertices of the non-saturated components offered to the split
 };
 
-void BuildFullAdjacency(Context& cx) {
-  const SimplexProblem& pb = cx.pb;
-  const std::int64_t V = cx.V;
-  std::vector<std::int64_t> deg(V + 1, 0);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-      ++deg[u + 1];
-      ++deg[pb.adj_vertices[e] + 1];
-    }
-  for (std::int64_t v = 0; v < V; ++v) deg[v + 1] += deg[v];
-  cx.full_first = deg;
-  cx.full_nbr.resize(deg[V]);
-  cx.full_edge.resize(deg[V]);
-  std::vector<std::int64_t> pos(deg.begin(), deg.end() - 1);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-      const std::int32_t v = pb.adj_vertices[e];
-      cx.full_nbr[pos[u]] = v;
-      cx.full_edge[pos[u]++] = e;
-      cx.full_nbr[pos[v]] = static_cast<std::int32_t>(u);
-      cx.full_edge[pos[v]++] = e;
-    }
-}
-
 Context MakeContext(const SimplexProblem& pb, const CutPursuitOptions& opt) {
   const int D = pb.D;
   const std::int64_t V = pb.num_nodes();
-  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}, {}, {}};
+  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}};
   if (opt.cp_dif_tol > 0.0 && opt.cp_dif_tol < cx.eps) cx.eps = opt.cp_dif_tol;
   cx.nw = pb.node_weights.empty() ? std::vector<double>(V, 1.0) : pb.node_weights;
   cx.m = pb.metric.empty() ? std::vector<double>(D, 1.0) : pb.metric;
-  BuildFullAdjacency(cx);
+  cx.adj = levelset::BuildSymmetricAdjacency(pb.first_edge, pb.adj_vertices);
   return cx;
 }
 
@@ -211,7 +187,7 @@ Iterate WarmIterate(const Context& cx, const WarmStart& w) {
   }
   for (std::int64_t v = 0; v < cx.V; ++v) {
     if (w.comp[v] >= 0) continue;
-    for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) it.saturated[it.comp[cx.full_nbr[k]]] = 0;
+    for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) it.saturated[it.comp[cx.adj.nbr[k]]] = 0;
   }
   return it;
 }
@@ -223,7 +199,7 @@ Iterate WarmIterate(const Context& cx, const WarmStart& w) {
 Iterate LevelSetIterate(const Context& cx, std::vector<MaxFlow>& networks, int threads, CutPursuitResult& res) {
   Timer timer;
   const levelset::TwoLabelTv tv{cx.pb.first_edge, cx.pb.adj_vertices, cx.pb.edge_weights, cx.pb.y, cx.nw,
-                                cx.m[0] + cx.m[1], cx.loss};
+                                cx.m[0] + cx.m[1], cx.loss, &cx.adj};
   levelset::Options lopt;
   lopt.epsilon = cx.opt.init_epsilon > 0.0 ? cx.opt.init_epsilon : 0.5 * cx.opt.cp_dif_tol;
   lopt.num_threads = threads;
@@ -291,8 +267,8 @@ std::int32_t BoundComponents(const Context& cx, const std::vector<std::int32_t>&
     queue.assign(1, static_cast<std::int32_t>(s));
     for (std::size_t h = 0; h < queue.size(); ++h) {
       const std::int32_t v = queue[h];
-      for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
-        const std::int32_t u = cx.full_nbr[k];
+      for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) {
+        const std::int32_t u = cx.adj.nbr[k];
         if (cc[u] >= 0 || old_comp[u] != old_comp[v] || label[u] != label[v]) continue;
         cc[u] = nc;
         queue.push_back(u);

@@ -32,6 +32,7 @@ struct Workspace {
   std::vector<double> bnd;
   std::vector<std::int32_t> queue;
   std::vector<char> visited;
+  std::int64_t inner_arcs = 0;  // arcs between nodes of the piece (both directions)
   std::int64_t flows = 0;
 };
 
@@ -40,8 +41,11 @@ class Run {
   Run(const TwoLabelTv& pb, const Options& opt)
       : pb_(pb), opt_(opt), V_(pb.num_nodes()), owner_(V_, 0), local_(V_, 0), side_(V_, 0),
         lo_(V_, 0.0), final_of_(V_, -1) {
-    BuildAdjacency();
-    Renumber();
+    if (pb.adjacency) {
+      Renumber(*pb.adjacency);
+    } else {
+      Renumber(BuildSymmetricAdjacency(pb.first_edge, pb.adj_vertices));
+    }
   }
   Partition Solve(std::vector<MaxFlow>* networks);
 
@@ -53,8 +57,11 @@ class Run {
   double Ddphi(std::int32_t v, double t) const {
     return w_[v] * (pb_.loss.Hess(y_[2 * v], t) + pb_.loss.Hess(y_[2 * v + 1], 1.0 - t));
   }
-  void BuildAdjacency();
-  void Renumber();
+  bool Keeps(const SymmetricAdjacency& adj, std::int32_t v, std::int64_t k) const {
+    return adj.nbr[k] != v && pb_.edge_weights[adj.edge[k]] > 0.0;
+  }
+  void Renumber(const SymmetricAdjacency& adj);
+  void RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::int32_t>& perm);
   std::vector<Piece> InitialPieces();
   void Boundary(const Piece& g, std::int32_t id, Workspace& ws);
   double PlateauLevel(const Piece& g, const Workspace& ws) const;
@@ -86,32 +93,9 @@ class Run {
   int max_depth_ = 0;
 };
 
-void Run::BuildAdjacency() {
-  ff_.assign(static_cast<std::size_t>(V_) + 1, 0);
-  const auto keep = [&](std::int32_t u, std::int64_t e) {
-    return pb_.edge_weights[e] > 0.0 && pb_.adj_vertices[e] != u;
-  };
-  for (std::int32_t u = 0; u < V_; ++u)
-    for (std::int64_t e = pb_.first_edge[u]; e < pb_.first_edge[u + 1]; ++e)
-      if (keep(u, e)) { ++ff_[u + 1]; ++ff_[pb_.adj_vertices[e] + 1]; }
-  for (std::int32_t v = 0; v < V_; ++v) ff_[v + 1] += ff_[v];
-  nbr_.resize(ff_[V_]);
-  om_.resize(ff_[V_]);
-  std::vector<std::int64_t> pos(ff_.begin(), ff_.end() - 1);
-  for (std::int32_t u = 0; u < V_; ++u)
-    for (std::int64_t e = pb_.first_edge[u]; e < pb_.first_edge[u + 1]; ++e) {
-      if (!keep(u, e)) continue;
-      const std::int32_t v = pb_.adj_vertices[e];
-      const double om = pb_.omega_scale * pb_.edge_weights[e];
-      nbr_[pos[u]] = v; om_[pos[u]++] = om;
-      nbr_[pos[v]] = u; om_[pos[v]++] = om;
-    }
-}
-
-// Breadth-first order over the whole graph from the caller's smallest unvisited node: each
-// connected component becomes a contiguous range. Then the adjacency, observations and weights are
-// rewritten in that numbering.
-void Run::Renumber() {
+// Breadth-first order over the whole graph (edges of positive weight between distinct nodes) from
+// the caller's smallest unvisited node: each connected component becomes a contiguous range.
+void Run::Renumber(const SymmetricAdjacency& adj) {
   order_.reserve(V_);
   std::vector<std::int32_t> perm(V_, -1);
   for (std::int32_t s = 0; s < V_; ++s) {
@@ -120,27 +104,47 @@ void Run::Renumber() {
     order_.push_back(s);
     for (std::size_t h = perm[s]; h < order_.size(); ++h) {
       const std::int32_t v = order_[h];
-      for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k)
-        if (perm[nbr_[k]] < 0) { perm[nbr_[k]] = static_cast<std::int32_t>(order_.size()); order_.push_back(nbr_[k]); }
+      for (std::int64_t k = adj.first[v]; k < adj.first[v + 1]; ++k) {
+        const std::int32_t u = adj.nbr[k];
+        if (perm[u] >= 0 || !Keeps(adj, v, k)) continue;
+        perm[u] = static_cast<std::int32_t>(order_.size());
+        order_.push_back(u);
+      }
     }
   }
-  std::vector<std::int64_t> ff(static_cast<std::size_t>(V_) + 1, 0);
-  std::vector<std::int32_t> nbr(nbr_.size());
-  std::vector<double> om(om_.size());
+  RenumberedAdjacency(adj, perm);
+}
+
+// The kept edges, observations and weights in the internal numbering, om = omega_scale · w_e;
+// each node's row is written by one thread (rows are independent).
+void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::int32_t>& perm) {
+  ff_.assign(static_cast<std::size_t>(V_) + 1, 0);
   y_.resize(2 * static_cast<std::size_t>(V_));
   w_.resize(V_);
+  const int threads = std::max(1, opt_.num_threads);
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int32_t i = 0; i < V_; ++i) {
     const std::int32_t v = order_[i];
-    std::int64_t pos = ff[i];
-    for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k, ++pos) { nbr[pos] = perm[nbr_[k]]; om[pos] = om_[k]; }
-    ff[i + 1] = pos;
-    y_[2 * i] = pb_.y[2 * v];
-    y_[2 * i + 1] = pb_.y[2 * v + 1];
+    std::int64_t kept = 0;
+    for (std::int64_t k = adj.first[v]; k < adj.first[v + 1]; ++k) kept += Keeps(adj, v, k);
+    ff_[i + 1] = kept;
+    y_[2 * i] = pb_.y[2 * static_cast<std::size_t>(v)];
+    y_[2 * i + 1] = pb_.y[2 * static_cast<std::size_t>(v) + 1];
     w_[i] = pb_.node_weights.empty() ? 1.0 : pb_.node_weights[v];
   }
-  ff_.swap(ff);
-  nbr_.swap(nbr);
-  om_.swap(om);
+  for (std::int32_t i = 0; i < V_; ++i) ff_[i + 1] += ff_[i];
+  nbr_.resize(ff_[V_]);
+  om_.resize(ff_[V_]);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (std::int32_t i = 0; i < V_; ++i) {
+    const std::int32_t v = order_[i];
+    std::int64_t pos = ff_[i];
+    for (std::int64_t k = adj.first[v]; k < adj.first[v + 1]; ++k) {
+      if (!Keeps(adj, v, k)) continue;
+      nbr_[pos] = perm[adj.nbr[k]];
+      om_[pos++] = pb_.omega_scale * pb_.edge_weights[adj.edge[k]];
+    }
+  }
 }
 
 // The connected components of the whole graph: contiguous ranges of the internal numbering.
@@ -168,12 +172,16 @@ void Run::Boundary(const Piece& g, std::int32_t id, Workspace& ws) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   for (std::int32_t i = 0; i < n; ++i) local_[g.members[i]] = i;
   ws.bnd.assign(n, 0.0);
+  ws.inner_arcs = 0;
   for (std::int32_t i = 0; i < n; ++i) {
     const std::int32_t v = g.members[i];
     double b = 0.0;
     for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
       const std::int32_t u = nbr_[k];
-      if (owner_[u] == id) continue;
+      if (owner_[u] == id) {
+        ++ws.inner_arcs;
+        continue;
+      }
       b += lo_[u] >= g.hi ? -om_[k] : om_[k];
     }
     ws.bnd[i] = b;
@@ -216,6 +224,7 @@ bool Run::LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   MaxFlow& mf = *ws.mf;
   mf.Reset(n);
+  mf.Reserve(ws.inner_arcs / 2);
   double neg = 0.0, scale = 0.0;
   for (std::int32_t i = 0; i < n; ++i) {
     const std::int32_t v = g.members[i];
@@ -366,6 +375,31 @@ Partition Run::Solve(std::vector<MaxFlow>* networks) {
 }
 
 }  // namespace
+
+SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
+                                           std::span<const std::int32_t> adj_vertices) {
+  const std::int64_t V = static_cast<std::int64_t>(first_edge.size()) - 1;
+  SymmetricAdjacency a;
+  a.first.assign(V + 1, 0);
+  for (std::int64_t u = 0; u < V; ++u)
+    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
+      ++a.first[u + 1];
+      ++a.first[adj_vertices[e] + 1];
+    }
+  for (std::int64_t v = 0; v < V; ++v) a.first[v + 1] += a.first[v];
+  a.nbr.resize(a.first[V]);
+  a.edge.resize(a.first[V]);
+  std::vector<std::int64_t> pos(a.first.begin(), a.first.end() - 1);
+  for (std::int64_t u = 0; u < V; ++u)
+    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
+      const std::int32_t v = adj_vertices[e];
+      a.nbr[pos[u]] = v;
+      a.edge[pos[u]++] = e;
+      a.nbr[pos[v]] = static_cast<std::int32_t>(u);
+      a.edge[pos[v]++] = e;
+    }
+  return a;
+}
 
 Partition SolveLevelSets(const TwoLabelTv& problem, const Options& options, std::vector<MaxFlow>* networks) {
   if (problem.num_nodes() <= 0) return {};

@@ -22,6 +22,16 @@
 
 namespace al::levelset {
 
+// Both directions of every stored edge: the neighbours of v are nbr[first[v] .. first[v + 1]),
+// reached through the stored edge edge[k] (in the order of the stored edges).
+struct SymmetricAdjacency {
+  std::vector<std::int64_t> first;
+  std::vector<std::int32_t> nbr;
+  std::vector<std::int64_t> edge;
+};
+SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
+                                           std::span<const std::int32_t> adj_vertices);
+
 struct TwoLabelTv {
   std::span<const std::int64_t> first_edge;    // V + 1 (CSR, every undirected edge stored once)
   std::span<const std::int32_t> adj_vertices;  // E
@@ -30,6 +40,7 @@ struct TwoLabelTv {
   std::span<const double> node_weights;        // V (empty = all 1)
   double omega_scale = 2.0;                    // m_0 + m_1 (2 for the unit metric)
   Loss loss{0.1, 2};
+  const SymmetricAdjacency* adjacency = nullptr;  // the caller's, if it has one (else built here)
 
   std::int32_t num_nodes() const { return static_cast<std::int32_t>(first_edge.size()) - 1; }
 };
