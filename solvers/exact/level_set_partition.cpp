@@ -1,13 +1,18 @@
 // Level-set partition by recursive level cuts over connected pieces (level_set_partition.hpp).
-// Rounds = depths: every piece of a round is cut independently (in parallel), then one write phase
-// records the children's intervals. During a round a thread reads only data written before it
-// (owner_, lo_) and writes only its own piece's nodes (local_, side_), so there are no races.
+// Pieces are independent, so worker threads take them from one queue, largest first (the chain of
+// cuts of a giant piece overlaps with everything else). A piece reads only its neighbours' owner
+// and interval start, whose classification (same piece / above / below) never changes while it
+// is cut; it writes only its own nodes. Each piece's outcome therefore depends on the piece alone,
+// never on the schedule or the number of threads.
 #include "solvers/exact/level_set_partition.hpp"
 
 #include <omp.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <condition_variable>
+#include <mutex>
 #include <numeric>
 
 namespace al::levelset {
@@ -17,7 +22,10 @@ struct Piece {
   std::vector<std::int32_t> members;
   double lo = 0.0, hi = 1.0;
   int depth = 0;
+  std::int32_t id = 0;  // unique among all pieces of the run (the owner_ of its nodes)
 };
+
+bool SmallerPiece(const Piece& a, const Piece& b) { return a.members.size() < b.members.size(); }
 
 // What cutting one piece gave: final (at level t, plateau or not) or child pieces.
 struct Outcome {
@@ -62,13 +70,21 @@ class Run {
   }
   void Renumber(const SymmetricAdjacency& adj);
   void RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::int32_t>& perm);
-  std::vector<Piece> InitialPieces();
-  void Boundary(const Piece& g, std::int32_t id, Workspace& ws);
+  // owner_ and lo_ of other pieces' nodes change while a piece is cut (never their classification).
+  std::int32_t Owner(std::int32_t v) const { return std::atomic_ref(owner_[v]).load(std::memory_order_relaxed); }
+  double Lo(std::int32_t v) const { return std::atomic_ref(lo_[v]).load(std::memory_order_relaxed); }
+  void Own(std::int32_t v, std::int32_t id, double lo) {
+    std::atomic_ref(owner_[v]).store(id, std::memory_order_relaxed);
+    std::atomic_ref(lo_[v]).store(lo, std::memory_order_relaxed);
+  }
+  void InitialPieces();
+  void Boundary(const Piece& g, Workspace& ws);
   double PlateauLevel(const Piece& g, const Workspace& ws) const;
-  bool LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws);
-  void SideComponents(const Piece& g, std::int32_t id, double t, Workspace& ws, std::vector<Piece>& out);
-  Outcome Process(const Piece& g, std::int32_t id, Workspace& ws);
-  void Commit(const std::vector<Piece>& round, std::vector<Outcome>& outcomes, std::vector<Piece>& next);
+  bool LevelCut(const Piece& g, double t, Workspace& ws);
+  void SideComponents(const Piece& g, double t, Workspace& ws, std::vector<Piece>& out);
+  Outcome Process(const Piece& g, Workspace& ws);
+  void Record(Piece& g, Outcome& o);
+  void Work(Workspace& ws);
   Partition Number() const;
 
   const TwoLabelTv& pb_;
@@ -83,7 +99,7 @@ class Run {
   std::vector<std::int64_t> ff_;
   std::vector<std::int32_t> nbr_;
   std::vector<double> om_;
-  std::vector<std::int32_t> owner_;  // piece of the node in the current round, -1 once final
+  std::vector<std::int32_t> owner_;  // id of the node's piece, -1 once final
   std::vector<std::int32_t> local_;  // position of the node in its piece
   std::vector<char> side_;           // 1 = above the last level cut of its piece
   std::vector<double> lo_;           // lower end of the node's interval (its value once final)
@@ -91,6 +107,12 @@ class Run {
   std::vector<double> fin_t_, fin_lo_, fin_hi_;
   std::vector<std::uint8_t> fin_plateau_;
   int max_depth_ = 0;
+  // The queue of pieces to cut (a max-heap by size) and the workers' bookkeeping, under mu_.
+  std::mutex mu_;
+  std::condition_variable cv_;
+  std::vector<Piece> queue_;
+  int busy_ = 0;
+  std::int32_t next_id_ = 0;
 };
 
 // Breadth-first order over the whole graph (edges of positive weight between distinct nodes) from
@@ -147,28 +169,30 @@ void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<s
   }
 }
 
-// The connected components of the whole graph: contiguous ranges of the internal numbering.
-std::vector<Piece> Run::InitialPieces() {
-  std::vector<Piece> pieces;
+// The connected components of the whole graph (contiguous ranges of the internal numbering) are
+// the first pieces.
+void Run::InitialPieces() {
   std::vector<char> seen(V_, 0);
   for (std::int32_t s = 0; s < V_; ++s) {
     if (seen[s]) continue;
-    Piece p;
     std::int32_t end = s + 1;
     seen[s] = 1;
     for (std::int32_t v = s; v < end; ++v)
       for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k)
         if (!seen[nbr_[k]]) { seen[nbr_[k]] = 1; ++end; }
+    Piece p;
     p.members.resize(end - s);
     std::iota(p.members.begin(), p.members.end(), s);
-    pieces.push_back(std::move(p));
+    p.id = next_id_++;
+    for (std::int32_t v : p.members) owner_[v] = p.id;
+    queue_.push_back(std::move(p));
   }
-  return pieces;
+  std::make_heap(queue_.begin(), queue_.end(), SmallerPiece);
 }
 
 // Numbers the piece's nodes and sums each one's boundary term: a neighbour outside the piece lies
 // entirely above (lo_ >= hi) or below it, and pulls the node towards its side by ω.
-void Run::Boundary(const Piece& g, std::int32_t id, Workspace& ws) {
+void Run::Boundary(const Piece& g, Workspace& ws) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   for (std::int32_t i = 0; i < n; ++i) local_[g.members[i]] = i;
   ws.bnd.assign(n, 0.0);
@@ -178,11 +202,11 @@ void Run::Boundary(const Piece& g, std::int32_t id, Workspace& ws) {
     double b = 0.0;
     for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
       const std::int32_t u = nbr_[k];
-      if (owner_[u] == id) {
+      if (Owner(u) == g.id) {
         ++ws.inner_arcs;
         continue;
       }
-      b += lo_[u] >= g.hi ? -om_[k] : om_[k];
+      b += Lo(u) >= g.hi ? -om_[k] : om_[k];
     }
     ws.bnd[i] = b;
   }
@@ -220,7 +244,7 @@ double Run::PlateauLevel(const Piece& g, const Workspace& ws) const {
 
 // Level cut at t: the sink side ("above", side_ = 1) pays a_v = φ'_v(t) + boundary. Returns true
 // when the cut gains nothing (min cut energy = flow − Σ negative unaries >= 0 up to rounding).
-bool Run::LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws) {
+bool Run::LevelCut(const Piece& g, double t, Workspace& ws) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   MaxFlow& mf = *ws.mf;
   mf.Reset(n);
@@ -234,7 +258,7 @@ bool Run::LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws) {
     scale += std::fabs(a);
     for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
       const std::int32_t u = nbr_[k];
-      if (u > v && owner_[u] == id) mf.AddEdge(i, local_[u], om_[k], om_[k]);
+      if (u > v && Owner(u) == g.id) mf.AddEdge(i, local_[u], om_[k], om_[k]);
     }
   }
   const double flow = mf.Solve();
@@ -245,20 +269,20 @@ bool Run::LevelCut(const Piece& g, std::int32_t id, double t, Workspace& ws) {
 
 // The connected components of each side of the cut (edges inside the piece joining nodes on the
 // same side): above in [t, hi], below in [lo, t].
-void Run::SideComponents(const Piece& g, std::int32_t id, double t, Workspace& ws, std::vector<Piece>& out) {
+void Run::SideComponents(const Piece& g, double t, Workspace& ws, std::vector<Piece>& out) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   ws.visited.assign(n, 0);
   for (std::int32_t i0 = 0; i0 < n; ++i0) {
     if (ws.visited[i0]) continue;
     const std::int32_t s = g.members[i0];
     const char side = side_[s];
-    Piece p{{s}, side ? t : g.lo, side ? g.hi : t, g.depth + 1};
+    Piece p{{s}, side ? t : g.lo, side ? g.hi : t, g.depth + 1, -1};
     ws.visited[i0] = 1;
     for (std::size_t h = 0; h < p.members.size(); ++h) {
       const std::int32_t v = p.members[h];
       for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k) {
         const std::int32_t u = nbr_[k];
-        if (owner_[u] != id || side_[u] != side || ws.visited[local_[u]]) continue;
+        if (Owner(u) != g.id || side_[u] != side || ws.visited[local_[u]]) continue;
         ws.visited[local_[u]] = 1;
         p.members.push_back(u);
       }
@@ -267,8 +291,8 @@ void Run::SideComponents(const Piece& g, std::int32_t id, double t, Workspace& w
   }
 }
 
-Outcome Run::Process(const Piece& g, std::int32_t id, Workspace& ws) {
-  Boundary(g, id, ws);
+Outcome Run::Process(const Piece& g, Workspace& ws) {
+  Boundary(g, ws);
   Outcome out;
   const bool plateau_pivot = !opt_.bisection;
   out.t = plateau_pivot ? PlateauLevel(g, ws) : 0.5 * (g.lo + g.hi);
@@ -281,7 +305,7 @@ Outcome Run::Process(const Piece& g, std::int32_t id, Workspace& ws) {
     out.final = out.plateau = true;
     return out;
   }
-  const bool no_gain = LevelCut(g, id, out.t, ws);
+  const bool no_gain = LevelCut(g, out.t, ws);
   std::int64_t above = 0;
   for (std::int32_t v : g.members) above += side_[v];
   const bool one_sided = above == 0 || above == static_cast<std::int64_t>(g.members.size());
@@ -289,31 +313,64 @@ Outcome Run::Process(const Piece& g, std::int32_t id, Workspace& ws) {
     out.final = out.plateau = true;
     return out;
   }
-  SideComponents(g, id, out.t, ws, out.children);
+  SideComponents(g, out.t, ws, out.children);
   return out;
 }
 
-// The write phase between rounds: children take their interval and their index in the next round,
-// final pieces their value.
-void Run::Commit(const std::vector<Piece>& round, std::vector<Outcome>& outcomes, std::vector<Piece>& next) {
-  for (std::size_t i = 0; i < round.size(); ++i) {
-    const Piece& g = round[i];
-    max_depth_ = std::max(max_depth_, g.depth);
-    Outcome& o = outcomes[i];
-    if (o.final) {
-      const std::int32_t f = static_cast<std::int32_t>(fin_t_.size());
+// Publishes a cut piece (caller holds no lock): a final piece's value, or its children with fresh
+// ids, their nodes' owner and interval start set before they are queued.
+void Run::Record(Piece& g, Outcome& o) {
+  if (o.final) {
+    std::int32_t f;
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      f = static_cast<std::int32_t>(fin_t_.size());
       fin_t_.push_back(o.t);
       fin_lo_.push_back(g.lo);
       fin_hi_.push_back(g.hi);
       fin_plateau_.push_back(o.plateau ? 1 : 0);
-      for (std::int32_t v : g.members) { owner_[v] = -1; lo_[v] = o.t; final_of_[v] = f; }
-      continue;
+      max_depth_ = std::max(max_depth_, g.depth);
     }
-    for (Piece& c : o.children) {
-      const std::int32_t j = static_cast<std::int32_t>(next.size());
-      for (std::int32_t v : c.members) { owner_[v] = j; lo_[v] = c.lo; }
-      next.push_back(std::move(c));
+    for (std::int32_t v : g.members) { final_of_[v] = f; Own(v, -1, o.t); }
+    return;
+  }
+  std::int32_t first_id;
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    first_id = next_id_;
+    next_id_ += static_cast<std::int32_t>(o.children.size());
+  }
+  for (std::size_t j = 0; j < o.children.size(); ++j) {
+    Piece& c = o.children[j];
+    c.id = first_id + static_cast<std::int32_t>(j);
+    for (std::int32_t v : c.members) Own(v, c.id, c.lo);
+  }
+}
+
+// A worker: cuts the largest queued piece until none is queued and none is being cut.
+void Run::Work(Workspace& ws) {
+  for (;;) {
+    Piece g;
+    {
+      std::unique_lock<std::mutex> lock(mu_);
+      cv_.wait(lock, [&] { return !queue_.empty() || busy_ == 0; });
+      if (queue_.empty()) return;
+      std::pop_heap(queue_.begin(), queue_.end(), SmallerPiece);
+      g = std::move(queue_.back());
+      queue_.pop_back();
+      ++busy_;
     }
+    Outcome o = Process(g, ws);
+    Record(g, o);
+    {
+      std::lock_guard<std::mutex> lock(mu_);
+      for (Piece& c : o.children) {
+        queue_.push_back(std::move(c));
+        std::push_heap(queue_.begin(), queue_.end(), SmallerPiece);
+      }
+      --busy_;
+    }
+    cv_.notify_all();
   }
 }
 
@@ -352,22 +409,12 @@ Partition Run::Solve(std::vector<MaxFlow>* networks) {
     ws[k].mf = &(*networks)[k];
     ws[k].mf->set_algorithm(opt_.max_flow);
   }
-  std::vector<Piece> round = InitialPieces();
-  for (std::size_t j = 0; j < round.size(); ++j)
-    for (std::int32_t v : round[j].members) owner_[v] = static_cast<std::int32_t>(j);
-  while (!round.empty()) {
-    // Largest pieces first for load balance; the order never changes a piece's outcome.
-    std::vector<std::int32_t> order(round.size());
-    std::iota(order.begin(), order.end(), 0);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](std::int32_t a, std::int32_t b) { return round[a].members.size() > round[b].members.size(); });
-    std::vector<Outcome> outcomes(round.size());
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads) if (round.size() > 1)
-    for (std::size_t k = 0; k < order.size(); ++k)
-      outcomes[order[k]] = Process(round[order[k]], order[k], ws[omp_get_thread_num()]);
-    std::vector<Piece> next;
-    Commit(round, outcomes, next);
-    round = std::move(next);
+  InitialPieces();
+  if (threads == 1) {
+    Work(ws[0]);
+  } else {
+#pragma omp parallel num_threads(threads)
+    Work(ws[omp_get_thread_num()]);
   }
   Partition part = Number();
   for (const Workspace& w : ws) part.max_flows += w.flows;
