@@ -104,6 +104,9 @@ struct Iterate {
   std::int32_t rV = 1;
   std::vector<double> rX;
   std::vector<char> saturated;
+  // Every component is connected (level-set pieces; merged pieces after an iteration). A warm
+  // start's components may not be, nor the single initial one.
+  bool connected = false;
 };
 
 // Buffers every split round reuses.
@@ -205,7 +208,7 @@ Iterate LevelSetIterate(const Context& cx, std::vector<MaxFlow>& networks, int t
   lopt.num_threads = threads;
   lopt.max_flow = cx.opt.max_flow;
   levelset::Partition part = levelset::SolveLevelSets(tv, lopt, &networks);
-  Iterate it{std::move(part.piece), static_cast<std::int32_t>(part.value.size()), {}, {}};
+  Iterate it{std::move(part.piece), static_cast<std::int32_t>(part.value.size()), {}, {}, true};
   it.rX.resize(2 * part.value.size());
   it.saturated.resize(part.value.size());
   for (std::size_t c = 0; c < part.value.size(); ++c) {
@@ -253,23 +256,29 @@ SplitRound SplitAll(const Context& cx, Iterate& it, SplitBuffers& buf, int threa
 }
 
 // Connected components over edges whose ends share their old component and their split label,
-// numbered by smallest vertex (§5, §12); origin[c] = the old component of new component c.
-std::int32_t BoundComponents(const Context& cx, const std::vector<std::int32_t>& old_comp,
-                             const std::vector<char>& label, std::vector<std::int32_t>& cc,
-                             std::vector<std::int32_t>& origin) {
+// numbered by smallest vertex (§5, §12); origin[c] = the old component of new component c. A
+// connected old component that did not split stays whole without a search.
+std::int32_t BoundComponents(const Context& cx, const Iterate& old, const SplitRound& round, const SplitBuffers& buf,
+                             std::vector<std::int32_t>& cc, std::vector<std::int32_t>& origin) {
   cc.assign(cx.V, -1);
   std::vector<std::int32_t> queue;
   std::int32_t nc = 0;
   for (std::int64_t s = 0; s < cx.V; ++s) {
     if (cc[s] >= 0) continue;
+    const std::int32_t o = old.comp[s];
+    origin.push_back(o);
+    if (old.connected && !round.did_split[o]) {
+      for (std::int64_t k = buf.cfirst[o]; k < buf.cfirst[o + 1]; ++k) cc[buf.clist[k]] = nc;
+      ++nc;
+      continue;
+    }
     cc[s] = nc;
-    origin.push_back(old_comp[s]);
     queue.assign(1, static_cast<std::int32_t>(s));
     for (std::size_t h = 0; h < queue.size(); ++h) {
       const std::int32_t v = queue[h];
       for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) {
         const std::int32_t u = cx.adj.nbr[k];
-        if (cc[u] >= 0 || old_comp[u] != old_comp[v] || label[u] != label[v]) continue;
+        if (cc[u] >= 0 || old.comp[u] != o || buf.label[u] != buf.label[v]) continue;
         cc[u] = nc;
         queue.push_back(u);
       }
@@ -397,6 +406,7 @@ Iterate MergePieces(const Context& cx, const ReducedProblem& rp, const std::vect
   std::vector<std::int32_t> final_id(nc, -1);
   Iterate next;
   next.rV = 0;
+  next.connected = true;  // connected pieces, merged only across reduced edges
   for (std::int32_t c = 0; c < nc; ++c)
     if (parent[c] == c) final_id[c] = next.rV++;
   next.rX.resize(static_cast<std::size_t>(next.rV) * D);
@@ -477,7 +487,7 @@ Iterate OuterIteration(const Context& cx, const PfdrOptions& popt, Iterate& it, 
   res.split_seconds.push_back(phase.Seconds());
   phase.Reset();
   Pieces pieces;
-  const std::int32_t nc = BoundComponents(cx, it.comp, buf.label, pieces.cc, pieces.origin);
+  const std::int32_t nc = BoundComponents(cx, it, round, buf, pieces.cc, pieces.origin);
   const ReducedProblem rp = ReduceGraph(cx, pieces.cc, nc, pieces.csize);
   res.reduce_seconds.push_back(phase.Seconds());
   phase.Reset();
