@@ -88,7 +88,7 @@ json Measure(const al::RefineProblem& problem, const RunSpec& run, int repeat) {
   std::sort(cpu.begin(), cpu.end());
   return {{"solver", run.solver}, {"options", run.options}, {"seconds", wall[wall.size() / 2]},
           {"seconds_all", wall}, {"cpu_seconds", cpu[cpu.size() / 2]}, {"objective", r.objective},
-          {"iterations", r.iterations}, {"converged", r.converged}};
+          {"iterations", r.iterations}, {"converged", r.converged}, {"stats", r.stats}};
 }
 
 int Main(int argc, char** argv) {

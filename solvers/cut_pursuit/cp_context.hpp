@@ -7,6 +7,7 @@
 
 #include "al/graph/loss.hpp"
 #include "solvers/cut_pursuit/cut_pursuit.hpp"
+#include "solvers/exact/level_set_partition.hpp"
 #include "solvers/max_flow/max_flow.hpp"
 
 namespace al::cp {
@@ -21,10 +22,8 @@ struct Context {
   Loss loss;
   double eps;
   std::vector<double> nw, m;  // node weights and metric, defaults filled in
-  // Symmetric adjacency (neighbour, edge id) for gradients and BFS.
-  std::vector<std::int64_t> full_first;
-  std::vector<std::int32_t> full_nbr;
-  std::vector<std::int64_t> full_edge;
+  // Symmetric adjacency (neighbour, edge id) for gradients, BFS and the level-set cold start.
+  levelset::SymmetricAdjacency adj;
 };
 
 // Splits one component c (vertices `verts`, ascending; `local` maps a vertex to its position in

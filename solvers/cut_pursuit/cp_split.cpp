@@ -67,10 +67,10 @@ SplitGeometry MakeGeometry(const Context& cx, std::int32_t c, const std::vector<
     const std::int32_t v = verts[i];
     double* g = &geo.G[geo.At(i)];
     for (int d = 0; d < D; ++d) g[d] = cx.nw[v] * cx.loss.Grad(cx.pb.y[static_cast<std::size_t>(v) * D + d], geo.X[d]);
-    for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
-      const std::int32_t u = cx.full_nbr[k];
+    for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) {
+      const std::int32_t u = cx.adj.nbr[k];
       if (comp[u] == c) continue;
-      const double w = cx.pb.edge_weights[cx.full_edge[k]];
+      const double w = cx.pb.edge_weights[cx.adj.edge[k]];
       if (!(w > 0.0)) continue;
       const double* xu = &rX[static_cast<std::size_t>(comp[u]) * D];
       for (int d = 0; d < D; ++d) {

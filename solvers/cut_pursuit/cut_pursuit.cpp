@@ -16,6 +16,7 @@
 #include "al/core/timer.hpp"
 #include "solvers/cut_pursuit/cp_context.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
+#include "solvers/exact/level_set_partition.hpp"
 
 namespace al::cp {
 namespace {
@@ -103,6 +104,9 @@ struct Iterate {
   std::int32_t rV = 1;
   std::vector<double> rX;
   std::vector<char> saturated;
+  // Every component is connected (level-set pieces; merged pieces after an iteration). A warm
+  // start's components may not be, nor the single initial one.
+  bool connected = false;
 };
 
 // Buffers every split round reuses.
@@ -119,38 +123,14 @@ struct SplitRound {
   std::int64_t cut_nodes = 0;  // vertices of the non-saturated components offered to the split
 };
 
-void BuildFullAdjacency(Context& cx) {
-  const SimplexProblem& pb = cx.pb;
-  const std::int64_t V = cx.V;
-  std::vector<std::int64_t> deg(V + 1, 0);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-      ++deg[u + 1];
-      ++deg[pb.adj_vertices[e] + 1];
-    }
-  for (std::int64_t v = 0; v < V; ++v) deg[v + 1] += deg[v];
-  cx.full_first = deg;
-  cx.full_nbr.resize(deg[V]);
-  cx.full_edge.resize(deg[V]);
-  std::vector<std::int64_t> pos(deg.begin(), deg.end() - 1);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) {
-      const std::int32_t v = pb.adj_vertices[e];
-      cx.full_nbr[pos[u]] = v;
-      cx.full_edge[pos[u]++] = e;
-      cx.full_nbr[pos[v]] = static_cast<std::int32_t>(u);
-      cx.full_edge[pos[v]++] = e;
-    }
-}
-
 Context MakeContext(const SimplexProblem& pb, const CutPursuitOptions& opt) {
   const int D = pb.D;
   const std::int64_t V = pb.num_nodes();
-  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}, {}, {}};
+  Context cx{pb, opt, D, V, Loss{pb.loss, D}, std::numeric_limits<double>::epsilon(), {}, {}, {}};
   if (opt.cp_dif_tol > 0.0 && opt.cp_dif_tol < cx.eps) cx.eps = opt.cp_dif_tol;
   cx.nw = pb.node_weights.empty() ? std::vector<double>(V, 1.0) : pb.node_weights;
   cx.m = pb.metric.empty() ? std::vector<double>(D, 1.0) : pb.metric;
-  BuildFullAdjacency(cx);
+  cx.adj = levelset::BuildSymmetricAdjacency(pb.first_edge, pb.adj_vertices);
   return cx;
 }
 
@@ -210,8 +190,37 @@ Iterate WarmIterate(const Context& cx, const WarmStart& w) {
   }
   for (std::int64_t v = 0; v < cx.V; ++v) {
     if (w.comp[v] >= 0) continue;
-    for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) it.saturated[it.comp[cx.full_nbr[k]]] = 0;
+    for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) it.saturated[it.comp[cx.adj.nbr[k]]] = 0;
   }
+  return it;
+}
+
+// The D = 2 cold start (Init::kLevelSets): the level-set partition of §11 down to intervals of
+// init_epsilon. Its pieces are connected and ordered exactly as the optimum's values; a piece whose
+// level cut gained nothing is an optimal plateau and starts saturated (§7 desaturates it if its
+// value moves), the others start at their best constant and are split by the loop.
+Iterate LevelSetIterate(const Context& cx, std::vector<MaxFlow>& networks, int threads, CutPursuitResult& res) {
+  Timer timer;
+  const levelset::TwoLabelTv tv{cx.pb.first_edge, cx.pb.adj_vertices, cx.pb.edge_weights, cx.pb.y, cx.nw,
+                                cx.m[0] + cx.m[1], cx.loss, &cx.adj};
+  levelset::Options lopt;
+  lopt.epsilon = cx.opt.init_epsilon > 0.0 ? cx.opt.init_epsilon : 0.5 * cx.opt.cp_dif_tol;
+  lopt.num_threads = threads;
+  lopt.max_flow = cx.opt.max_flow;
+  levelset::Partition part = levelset::SolveLevelSets(tv, lopt, &networks);
+  Iterate it{std::move(part.piece), static_cast<std::int32_t>(part.value.size()), {}, {}, true};
+  it.rX.resize(2 * part.value.size());
+  it.saturated.resize(part.value.size());
+  for (std::size_t c = 0; c < part.value.size(); ++c) {
+    it.rX[2 * c] = part.value[c];
+    it.rX[2 * c + 1] = 1.0 - part.value[c];
+    // Every node's optimum lies in [lo, hi]: no split can move it by more than 2 (hi - lo) in l1.
+    it.saturated[c] = part.plateau[c] || 2.0 * (part.hi[c] - part.lo[c]) <= cx.opt.cp_dif_tol;
+    res.init_plateaus += part.plateau[c];
+  }
+  res.init_max_flows = part.max_flows;
+  res.init_pieces = it.rV;
+  res.init_seconds = timer.Seconds();
   return it;
 }
 
@@ -247,23 +256,29 @@ SplitRound SplitAll(const Context& cx, Iterate& it, SplitBuffers& buf, int threa
 }
 
 // Connected components over edges whose ends share their old component and their split label,
-// numbered by smallest vertex (§5, §12); origin[c] = the old component of new component c.
-std::int32_t BoundComponents(const Context& cx, const std::vector<std::int32_t>& old_comp,
-                             const std::vector<char>& label, std::vector<std::int32_t>& cc,
-                             std::vector<std::int32_t>& origin) {
+// numbered by smallest vertex (§5, §12); origin[c] = the old component of new component c. A
+// connected old component that did not split stays whole without a search.
+std::int32_t BoundComponents(const Context& cx, const Iterate& old, const SplitRound& round, const SplitBuffers& buf,
+                             std::vector<std::int32_t>& cc, std::vector<std::int32_t>& origin) {
   cc.assign(cx.V, -1);
   std::vector<std::int32_t> queue;
   std::int32_t nc = 0;
   for (std::int64_t s = 0; s < cx.V; ++s) {
     if (cc[s] >= 0) continue;
+    const std::int32_t o = old.comp[s];
+    origin.push_back(o);
+    if (old.connected && !round.did_split[o]) {
+      for (std::int64_t k = buf.cfirst[o]; k < buf.cfirst[o + 1]; ++k) cc[buf.clist[k]] = nc;
+      ++nc;
+      continue;
+    }
     cc[s] = nc;
-    origin.push_back(old_comp[s]);
     queue.assign(1, static_cast<std::int32_t>(s));
     for (std::size_t h = 0; h < queue.size(); ++h) {
       const std::int32_t v = queue[h];
-      for (std::int64_t k = cx.full_first[v]; k < cx.full_first[v + 1]; ++k) {
-        const std::int32_t u = cx.full_nbr[k];
-        if (cc[u] >= 0 || old_comp[u] != old_comp[v] || label[u] != label[v]) continue;
+      for (std::int64_t k = cx.adj.first[v]; k < cx.adj.first[v + 1]; ++k) {
+        const std::int32_t u = cx.adj.nbr[k];
+        if (cc[u] >= 0 || old.comp[u] != o || buf.label[u] != buf.label[v]) continue;
         cc[u] = nc;
         queue.push_back(u);
       }
@@ -391,6 +406,7 @@ Iterate MergePieces(const Context& cx, const ReducedProblem& rp, const std::vect
   std::vector<std::int32_t> final_id(nc, -1);
   Iterate next;
   next.rV = 0;
+  next.connected = true;  // connected pieces, merged only across reduced edges
   for (std::int32_t c = 0; c < nc; ++c)
     if (parent[c] == c) final_id[c] = next.rV++;
   next.rX.resize(static_cast<std::size_t>(next.rV) * D);
@@ -471,12 +487,18 @@ Iterate OuterIteration(const Context& cx, const PfdrOptions& popt, Iterate& it, 
   res.split_seconds.push_back(phase.Seconds());
   phase.Reset();
   Pieces pieces;
-  const std::int32_t nc = BoundComponents(cx, it.comp, buf.label, pieces.cc, pieces.origin);
+  const std::int32_t nc = BoundComponents(cx, it, round, buf, pieces.cc, pieces.origin);
   const ReducedProblem rp = ReduceGraph(cx, pieces.cc, nc, pieces.csize);
   res.reduce_seconds.push_back(phase.Seconds());
   phase.Reset();
   std::vector<double> X;
-  res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+  if (cx.D == 2 && cx.opt.reduced_solver == CutPursuitOptions::Reduced::kLevelSets) {
+    res.reduced_max_flows.push_back(SolveReducedLevelSets(rp, {1e-10, threads, cx.opt.max_flow}, buf.networks, X));
+    res.pfdr_iterations.push_back(0);
+  } else {
+    res.pfdr_iterations.push_back(SolveReduced(rp, popt, X));
+    res.reduced_max_flows.push_back(0);
+  }
   res.pfdr_seconds.push_back(phase.Seconds());
   phase.Reset();
   Iterate next = MergePieces(cx, rp, X, it, buf.cfirst, pieces);
@@ -510,11 +532,13 @@ CutPursuitResult RunCutPursuit(const SimplexProblem& pb, const CutPursuitOptions
     res.objective_history.push_back(0.0);
     return res;
   }
-  Iterate it = warm ? WarmIterate(cx, *warm) : InitialIterate(cx);
+  SplitBuffers buf = MakeSplitBuffers(cx.V, threads, opt.max_flow);
+  const bool level_sets = !warm && cx.D == 2 && opt.init == CutPursuitOptions::Init::kLevelSets;
+  Iterate it = warm ? WarmIterate(cx, *warm) : level_sets ? LevelSetIterate(cx, buf.networks, threads, res)
+                                                          : InitialIterate(cx);
   res.objective_history.push_back(SimplexObjective(pb, it.comp, it.rX));
   Iterate best = it;
   double best_obj = res.objective_history[0];
-  SplitBuffers buf = MakeSplitBuffers(cx.V, threads, opt.max_flow);
   bool stalled = false;
   while (res.iterations < opt.cp_it_max && (res.dif_history.empty() || res.dif_history.back() > opt.cp_dif_tol)) {
     bool any_split = false;

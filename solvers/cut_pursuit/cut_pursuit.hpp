@@ -47,6 +47,17 @@ struct CutPursuitOptions {
   // Max-flow algorithm of the splits (JSON "hybrid", "pseudoflow" or "bk"). All return the same cut;
   // BK alone is the pre-pseudoflow baseline of the benchmarks.
   MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
+  // Solver of the reduced problem (§6): for D = 2 its exact optimum by level cuts on the reduced
+  // graph, which §6.2 allows (JSON "level_sets", the default; docs/solvers.md "cp speed (3)"), or
+  // PFDR ("pfdr", used for every D != 2).
+  enum class Reduced { kLevelSets, kPfdr };
+  Reduced reduced_solver = Reduced::kLevelSets;
+  // Cold start: for D = 2 the level-set partition of §11 cut down to intervals of init_epsilon
+  // (JSON "level_sets", the default; docs/solvers.md "cp speed (3)"), or the spec's single
+  // component ("one_component", used for every D != 2 and for warm starts).
+  enum class Init { kLevelSets, kOneComponent };
+  Init init = Init::kLevelSets;
+  double init_epsilon = 0.0;  // 0 = cp_dif_tol / 2 (docs/solvers.md "cp speed (3)")
 
   // The JSON keys of --solver-options, their ranges and help (cut_pursuit_solver.cpp).
   static const OptionTable<CutPursuitOptions>& Table();
@@ -59,7 +70,8 @@ struct CutPursuitResult {
   std::int32_t num_components = 0;
   std::vector<double> objective_history;  // Obj[0..it]
   std::vector<double> dif_history;        // Dif[1..it]
-  std::vector<int> pfdr_iterations;       // per outer iteration
+  std::vector<int> pfdr_iterations;       // per outer iteration (0 when solved by level sets)
+  std::vector<std::int64_t> reduced_max_flows;  // per outer iteration (level-set reduced solves)
   // Wall seconds per outer iteration: split (directions + max-flows), reduced graph, PFDR, merge and
   // objective. Diagnostics only; never influence the result.
   std::vector<double> split_seconds, reduce_seconds, pfdr_seconds, merge_seconds;
@@ -71,6 +83,9 @@ struct CutPursuitResult {
   std::vector<char> saturated;            // per component at the end (not offered to a next split)
   int remainder_saturations = 0;          // components saturated by saturate_split_remainders
   std::vector<std::string> warnings;      // e.g. non-monotone objective steps
+  // The level-set cold start (Init::kLevelSets): wall seconds, max-flows, pieces, plateau pieces.
+  double init_seconds = 0.0;
+  std::int64_t init_max_flows = 0, init_pieces = 0, init_plateaus = 0;
 
   double Value(std::int64_t v, int d, int D) const { return rX[comp_assign[v] * D + d]; }
 };

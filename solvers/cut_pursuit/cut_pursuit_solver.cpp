@@ -46,6 +46,11 @@ class CutPursuitSolver final : public Solver {
     out.stats["components"] = r.num_components;
     out.stats["dif_history"] = r.dif_history;
     out.stats["pfdr_iterations"] = r.pfdr_iterations;
+    out.stats["reduced_max_flows"] = r.reduced_max_flows;
+    out.stats["init_seconds"] = r.init_seconds;
+    out.stats["init_max_flows"] = r.init_max_flows;
+    out.stats["init_pieces"] = r.init_pieces;
+    out.stats["init_plateaus"] = r.init_plateaus;
     out.stats["split_seconds"] = r.split_seconds;
     out.stats["reduce_seconds"] = r.reduce_seconds;
     out.stats["pfdr_seconds"] = r.pfdr_seconds;
@@ -89,7 +94,16 @@ const OptionTable<cp::CutPursuitOptions>& cp::CutPursuitOptions::Table() {
                 "reproduce the upstream projection bug (CUT_PURSUIT.md 4.2)")
           .Flag("saturate_split_remainders", &O::saturate_split_remainders,
                 "saturate a split's remainder that moved by <= cp_dif_tol (docs/solvers.md)")
-          .Choice("max_flow", &O::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the splits; all give the same cut");
+          .Choice("max_flow", &O::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the splits; all give the same cut")
+          .Choice("reduced_solver", &O::reduced_solver,
+                  std::vector<std::pair<std::string, O::Reduced>>{{"level_sets", O::Reduced::kLevelSets},
+                                                                 {"pfdr", O::Reduced::kPfdr}},
+                  "reduced problem: exact level cuts (D = 2) or PFDR")
+          .Choice("init", &O::init,
+                  std::vector<std::pair<std::string, O::Init>>{{"level_sets", O::Init::kLevelSets},
+                                                              {"one_component", O::Init::kOneComponent}},
+                  "cold start: coarse level-set partition (D = 2) or one component")
+          .Real("init_epsilon", &O::init_epsilon, R::Closed(0, 1), "interval width of the level-set cold start; 0 = cp_dif_tol / 2");
   return table;
 }
 

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "al/graph/loss.hpp"
+#include "solvers/max_flow/max_flow.hpp"
 
 namespace al::cp {
 
@@ -31,5 +32,16 @@ void ClosedFormValue(const Loss& loss, int D, const double* ybar, double* x);
 // Solves the reduced problem from X = Ybar; isolated components get their closed form.
 // Returns the number of PFDR iterations.
 int SolveReduced(const ReducedProblem& rp, const PfdrOptions& options, std::vector<double>& X);
+
+struct ReducedLevelSetOptions {
+  double epsilon = 1e-10;  // interval width at which a piece is final (the exact solver's)
+  int num_threads = 1;     // never changes X
+  MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
+};
+
+// D = 2 only: the reduced problem's optimum by level cuts (reduced_level_sets.cpp), with the
+// callers' max-flow networks (one per thread). Returns the number of max-flows.
+std::int64_t SolveReducedLevelSets(const ReducedProblem& rp, const ReducedLevelSetOptions& options,
+                                   std::vector<MaxFlow>& networks, std::vector<double>& X);
 
 }  // namespace al::cp

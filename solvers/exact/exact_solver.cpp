@@ -47,7 +47,9 @@ const OptionTable<ExactOptions>& ExactOptions::Table() {
           .Choice("pivot", &ExactOptions::pivot,
                   std::vector<std::pair<std::string, std::string>>{{"plateau", "plateau"}, {"bisection", "bisection"}},
                   "how an interval is split: at a plateau of the level cut, or halved")
-          .Choice("max_flow", &ExactOptions::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the level cuts");
+          .Choice("max_flow", &ExactOptions::max_flow, MaxFlow::AlgorithmNames(), "max-flow of the level cuts")
+          .Int("num_threads", &ExactOptions::num_threads, NumericRange::Closed(0, 4096),
+               "0 = OpenMP default; results never depend on it");
   return table;
 }
 

@@ -22,6 +22,7 @@ struct ExactOptions {
   std::string pivot = "plateau";   // "plateau" or "bisection"
   // Max-flow of the level cuts (JSON "hybrid", "pseudoflow" or "bk"; all give the same cuts).
   MaxFlow::Algorithm max_flow = MaxFlow::Algorithm::kHybrid;
+  int num_threads = 0;  // pieces of one depth cut in parallel; 0 = OpenMP default; never changes p
 
   // The JSON keys of --solver-options, their ranges and help (exact_solver.cpp).
   static const OptionTable<ExactOptions>& Table();
@@ -30,7 +31,7 @@ struct ExactOptions {
 
 struct ExactStats {
   long long max_flows = 0;
-  long long plateaus = 0;
+  long long plateaus = 0;  // final pieces (connected, constant)
   int max_depth = 0;
 };
 

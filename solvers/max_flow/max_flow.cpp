@@ -36,6 +36,14 @@ void MaxFlow::AddTerminal(std::int32_t v, double source_cap, double sink_cap) {
   user_tr_[v] = source_cap - sink_cap;
 }
 
+void MaxFlow::Reserve(std::int64_t num_edges) {
+  const auto m = static_cast<std::size_t>(num_edges);
+  eu_.reserve(m);
+  ev_.reserve(m);
+  ecap_uv_.reserve(m);
+  ecap_vu_.reserve(m);
+}
+
 void MaxFlow::AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu) {
   if (!(cap_uv > 0.0) && !(cap_vu > 0.0)) return;
   eu_.push_back(u);

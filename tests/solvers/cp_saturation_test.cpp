@@ -19,6 +19,7 @@ std::int64_t Total(const std::vector<std::int64_t>& v) { return std::accumulate(
 cp::CutPursuitResult RunCp(const cp::SimplexProblem& sp, bool rule, int threads) {
   cp::CutPursuitOptions o;
   o.saturate_split_remainders = rule;
+  o.init = cp::CutPursuitOptions::Init::kOneComponent;  // the rule acts in the spec's loop
   o.num_threads = threads;
   return cp::RunCutPursuit(sp, o);
 }
