@@ -13,6 +13,7 @@ function(al_add_concern name)
     # Position-independent always: the Python module links these libraries, and a flag that
     # depended on AL_PYTHON would recompile every object when `./al test` turns it on.
     set_target_properties(${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+    al_use_pch(${name} lib)
     target_include_directories(${name} PUBLIC ${PROJECT_SOURCE_DIR}/include ${PROJECT_SOURCE_DIR})
     target_link_libraries(${name} PUBLIC ${ARG_DEPS})
   else()

@@ -2,15 +2,15 @@
 # nlohmann/json, Eigen and much of the standard library, a binding file pybind11 as well (~2.5 s
 # and ~7 s of CPU a file) before a line of its own code; a precompiled header parses them once.
 #
-# Only the tests and the Python glue use them. The libraries, the CLI and the benchmarks do not:
-# a precompiled header leaves the flags alone but moves inlining decisions in some functions
-# (GCC 12: 13 of 97 library objects differed, in string and JSON code), and the speed claims of
-# docs/benchmarks.md are measured on exactly that code.
+# The libraries use one too (group lib): `./al demo` builds only al-refine, mostly library code,
+# and this took its build from 689 to 587 s of CPU (docs/architecture.md, "Build time"). It moves
+# some of GCC's inlining decisions, so the speed claims are measured on this code.
 #
 # al_use_pch(<target> <group>) gives <target> the precompiled header of <group>. The first target of
 # a group builds it; the others reuse it (REUSE_FROM), which GCC accepts only when the flags that
 # shape a header (-fPIE/-fPIC, -f options, definitions used by the headers) match, so a group is a
 # set of targets built with the same flags:
+#   lib     the libraries (al_add_concern): static, position-independent, -fopenmp
 #   test    the gtest suites (al_add_test_suite): executables with GoogleTest's definitions
 #   python  the pybind11 module (-fPIC, -fvisibility=hidden)
 # A header listed here is seen by every file of its group, so a file that forgets an #include of
@@ -22,6 +22,7 @@ set(AL_PCH_COMMON
     <memory> <optional> <span> <sstream> <stdexcept> <string> <utility> <vector>
     <nlohmann/json.hpp> <Eigen/Core>)
 set(AL_PCH_test ${AL_PCH_COMMON} <gtest/gtest.h>)
+set(AL_PCH_lib ${AL_PCH_COMMON})
 # pybind11 first: Python.h must come before the standard headers.
 set(AL_PCH_python <pybind11/pybind11.h> <pybind11/numpy.h> <pybind11/stl.h> ${AL_PCH_COMMON})
 
@@ -30,7 +31,7 @@ function(al_use_pch target group)
     return()
   endif()
   if(NOT DEFINED AL_PCH_${group})
-    message(FATAL_ERROR "al_use_pch: unknown group '${group}' (test, python)")
+    message(FATAL_ERROR "al_use_pch: unknown group '${group}' (lib, test, python)")
   endif()
   get_property(owner GLOBAL PROPERTY AL_PCH_OWNER_${group})
   if(owner)

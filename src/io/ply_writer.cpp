@@ -4,7 +4,9 @@
 #include <algorithm>
 #include <bit>
 #include <cstring>
+#include <optional>
 #include <ostream>
+#include <string>
 #include <string_view>
 
 #include "al/core/atomic_file.hpp"
@@ -81,6 +83,15 @@ void WriteFromSource(std::ostream& os, const PlySource& src, const std::vector<b
   }
 }
 
+// Appends in place: GCC 12 falsely warns (-Warray-bounds, bug 105651) on `literal + std::string`
+// temporaries once they are inlined, as the precompiled header makes them here.
+void AddFloat(std::string& header, std::string_view name, std::optional<std::size_t> index = std::nullopt) {
+  header += "property float ";
+  header += name;
+  if (index) header += std::to_string(*index);
+  header += '\n';
+}
+
 void WriteInria(std::ostream& os, const Scene& scene, const std::vector<bool>& keep, std::size_t kept) {
   const int degree = scene.sh.cols() >= 3 ? scene.sh_degree : 0;
   const std::size_t coeffs = static_cast<std::size_t>((degree + 1) * (degree + 1));
@@ -91,13 +102,12 @@ void WriteInria(std::ostream& os, const Scene& scene, const std::vector<bool>& k
                                  ? std::string("semantic_")  // empty, or an .npy path: not a property name
                                  : scene.feature_prefix;
   std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(kept) + "\n";
-  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"})
-    header += std::string("property float ") + name + "\n";
-  for (std::size_t j = 0; j < rest; ++j) header += "property float f_rest_" + std::to_string(j) + "\n";
-  header += "property float opacity\n";
-  for (int k = 0; k < 3; ++k) header += "property float scale_" + std::to_string(k) + "\n";
-  for (int k = 0; k < 4; ++k) header += "property float rot_" + std::to_string(k) + "\n";
-  for (std::size_t d = 0; d < dim; ++d) header += "property float " + prefix + std::to_string(d) + "\n";
+  for (const char* name : {"x", "y", "z", "nx", "ny", "nz", "f_dc_0", "f_dc_1", "f_dc_2"}) AddFloat(header, name);
+  for (std::size_t j = 0; j < rest; ++j) AddFloat(header, "f_rest_", j);
+  AddFloat(header, "opacity");
+  for (int k = 0; k < 3; ++k) AddFloat(header, "scale_", k);
+  for (int k = 0; k < 4; ++k) AddFloat(header, "rot_", k);
+  for (std::size_t d = 0; d < dim; ++d) AddFloat(header, prefix, d);
   header += "end_header\n";
   os.write(header.data(), static_cast<std::streamsize>(header.size()));
 
