@@ -7,7 +7,7 @@
 
 #include "al/graph/loss.hpp"
 #include "solvers/cut_pursuit/cut_pursuit.hpp"
-#include "solvers/exact/level_set_partition.hpp"
+#include "solvers/level_sets/level_set_partition.hpp"
 #include "solvers/max_flow/max_flow.hpp"
 
 namespace al::cp {

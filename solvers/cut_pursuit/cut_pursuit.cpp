@@ -16,7 +16,7 @@
 #include "al/core/timer.hpp"
 #include "solvers/cut_pursuit/cp_context.hpp"
 #include "solvers/cut_pursuit/pfdr.hpp"
-#include "solvers/exact/level_set_partition.hpp"
+#include "solvers/level_sets/level_set_partition.hpp"
 
 namespace al::cp {
 namespace {

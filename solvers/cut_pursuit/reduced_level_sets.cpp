@@ -4,7 +4,7 @@
 // solver gives its optimum to rounding, usually in a fraction of PFDR's time, and adjacent
 // components on one plateau come out with bit-identical values (the merge then joins them).
 #include "solvers/cut_pursuit/pfdr.hpp"
-#include "solvers/exact/level_set_partition.hpp"
+#include "solvers/level_sets/level_set_partition.hpp"
 
 namespace al::cp {
 

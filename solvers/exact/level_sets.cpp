@@ -10,7 +10,7 @@
 
 #include "al/graph/loss.hpp"
 #include "solvers/exact/exact_solver.hpp"
-#include "solvers/exact/level_set_partition.hpp"
+#include "solvers/level_sets/level_set_partition.hpp"
 
 namespace al {
 namespace {

@@ -4,7 +4,7 @@
 // and interval start, whose classification (same piece / above / below) never changes while it
 // is cut; it writes only its own nodes. Each piece's outcome therefore depends on the piece alone,
 // never on the schedule or the number of threads.
-#include "solvers/exact/level_set_partition.hpp"
+#include "solvers/level_sets/level_set_partition.hpp"
 
 #include <omp.h>
 
