@@ -62,6 +62,21 @@ class MaxFlow {
   void set_algorithm(Algorithm algorithm) { algorithm_ = algorithm; }
   // Starts a new network of num_nodes nodes without terminal capacities or edges.
   void Reset(std::int32_t num_nodes);
+  // Optional, after Reset(): room for this many edges, so that AddEdge does not regrow the edge
+  // buffers (each regrowth touches fresh memory, which costs more than the copy on this project's
+  // VMs). Never changes a result.
+  void Reserve(std::int64_t num_edges);
+  // All edges at once in the RefineProblem CSR layout, instead of AddEdge: node u's edges are
+  // [first_edge[u], first_edge[u + 1]), adj[e] the other end (!= u); the arc u -> adj[e] has
+  // capacity forward[e], the opposite arc reverse[e] (empty reverse: = forward; finite, >= 0).
+  // The arcs are laid out straight from the spans: no edge list is staged and nodes keep the
+  // caller's numbering (no breadth-first renumbering), so one large cut first touches less than
+  // half the memory and makes two passes over the edges instead of five (the bk solver's single
+  // cut of 685k nodes and 4.0M edges spent more time there than in the flow). The spans must stay
+  // valid until Solve() returns. A network takes its edges from AddEdge or from SetEdges, not both;
+  // Reset() forgets them.
+  void SetEdges(std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj,
+                std::span<const double> forward, std::span<const double> reverse = {});
   // Adds terminal capacities (both >= 0, finite): source_cap is paid when v ends on the sink side,
   // sink_cap when it ends on the source side. May be called several times per node.
   void AddTerminal(std::int32_t v, double source_cap, double sink_cap);
@@ -116,6 +131,7 @@ class MaxFlow {
   };
 
   void Build();
+  void BuildFromCsr();
   double CutValue() const;
   void GreedyPreflow();
   bool BoykovKolmogorov(std::int64_t max_work);
@@ -147,7 +163,13 @@ class MaxFlow {
   // Large per-cut buffers: huge pages make their first touch cheap (huge_page_allocator.hpp).
   template <class T>
   using Buffer = std::vector<T, HugePageAllocator<T>>;
-  // Input in the caller's numbering (until Build()).
+  // Input in the caller's numbering (until Build()), from AddEdge or SetEdges.
+  struct CsrEdges {
+    std::span<const std::int64_t> first;
+    std::span<const std::int32_t> adj;
+    std::span<const double> forward, reverse;
+  };
+  std::optional<CsrEdges> csr_;
   Buffer<double> user_tr_;
   Buffer<std::int32_t> eu_, ev_;
   Buffer<double> ecap_uv_, ecap_vu_;
