@@ -28,14 +28,6 @@ void MaxFlow::Reset(std::int32_t num_nodes) {
   user_tr_.assign(num_nodes, 0.0);
 }
 
-void MaxFlow::Reserve(std::int64_t num_edges) {
-  const auto m = static_cast<std::size_t>(num_edges);
-  eu_.reserve(m);
-  ev_.reserve(m);
-  ecap_uv_.reserve(m);
-  ecap_vu_.reserve(m);
-}
-
 void MaxFlow::SetEdges(std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj,
                        std::span<const double> forward, std::span<const double> reverse) {
   eu_.clear();
@@ -52,6 +44,14 @@ void MaxFlow::AddTerminal(std::int32_t v, double source_cap, double sink_cap) {
   else sink_cap -= delta;
   constant_ += std::min(source_cap, sink_cap);
   user_tr_[v] = source_cap - sink_cap;
+}
+
+void MaxFlow::Reserve(std::int64_t num_edges) {
+  const auto m = static_cast<std::size_t>(num_edges);
+  eu_.reserve(m);
+  ev_.reserve(m);
+  ecap_uv_.reserve(m);
+  ecap_vu_.reserve(m);
 }
 
 void MaxFlow::AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu) {

@@ -66,6 +66,13 @@ class MaxFlow {
   // buffers (each regrowth touches fresh memory, which costs more than the copy on this project's
   // VMs). Never changes a result.
   void Reserve(std::int64_t num_edges);
+  // Adds terminal capacities (both >= 0, finite): source_cap is paid when v ends on the sink side,
+  // sink_cap when it ends on the source side. May be called several times per node.
+  void AddTerminal(std::int32_t v, double source_cap, double sink_cap);
+  // Signed unary: a > 0 is a source arc of capacity a, a < 0 a sink arc of capacity -a.
+  void AddUnary(std::int32_t v, double a) { a > 0.0 ? AddTerminal(v, a, 0.0) : AddTerminal(v, 0.0, -a); }
+  // Edge with capacity cap_uv from u to v and cap_vu from v to u (finite, >= 0; u != v).
+  void AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu);
   // All edges at once in the RefineProblem CSR layout, instead of AddEdge: node u's edges are
   // [first_edge[u], first_edge[u + 1]), adj[e] the other end (!= u); the arc u -> adj[e] has
   // capacity forward[e], the opposite arc reverse[e] (empty reverse: = forward; finite, >= 0).
@@ -77,13 +84,6 @@ class MaxFlow {
   // Reset() forgets them.
   void SetEdges(std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj,
                 std::span<const double> forward, std::span<const double> reverse = {});
-  // Adds terminal capacities (both >= 0, finite): source_cap is paid when v ends on the sink side,
-  // sink_cap when it ends on the source side. May be called several times per node.
-  void AddTerminal(std::int32_t v, double source_cap, double sink_cap);
-  // Signed unary: a > 0 is a source arc of capacity a, a < 0 a sink arc of capacity -a.
-  void AddUnary(std::int32_t v, double a) { a > 0.0 ? AddTerminal(v, a, 0.0) : AddTerminal(v, 0.0, -a); }
-  // Edge with capacity cap_uv from u to v and cap_vu from v to u (finite, >= 0; u != v).
-  void AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu);
   // Computes a maximum flow; returns the cost of the returned minimum cut (terminal constants
   // included), summed in a fixed order from the capacities as given.
   double Solve();
