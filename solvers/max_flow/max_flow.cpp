@@ -15,6 +15,24 @@
 
 namespace al {
 
+MaxFlow::MaxFlow(bool huge_pages)
+    : user_tr_(HugePageAllocator<double>(huge_pages)),
+      eu_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ev_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ecap_uv_(HugePageAllocator<double>(huge_pages)),
+      ecap_vu_(HugePageAllocator<double>(huge_pages)),
+      perm_(HugePageAllocator<std::int32_t>(huge_pages)),
+      order_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ufirst_(HugePageAllocator<std::int32_t>(huge_pages)),
+      uadj_(HugePageAllocator<std::int32_t>(huge_pages)),
+      uslot_(HugePageAllocator<std::int32_t>(huge_pages)),
+      nodes_(HugePageAllocator<Node>(huge_pages)),
+      arcs_(HugePageAllocator<Arc>(huge_pages)),
+      tree_(HugePageAllocator<TreeNode>(huge_pages)),
+      bucket_first_(HugePageAllocator<std::int32_t>(huge_pages)),
+      bucket_last_(HugePageAllocator<std::int32_t>(huge_pages)),
+      label_count_(HugePageAllocator<std::int32_t>(huge_pages)) {}
+
 void MaxFlow::Reset(std::int32_t num_nodes) {
   n_ = num_nodes;
   constant_ = 0.0;

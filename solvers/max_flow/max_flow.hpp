@@ -59,6 +59,14 @@ class MaxFlow {
     bool budget_exhausted = false;         // pseudoflow stopped by its safety valve (BK finished)
   };
 
+  // huge_pages = false: the large buffers are not advised onto transparent huge pages. For a network
+  // built and solved once (MinCutLabels: the bk solver's one cut per round). With the kernel's THP
+  // defrag "madvise", an advised first touch may wait for memory compaction: on this project's
+  // shared VMs the bk cut of the 3M scene (8M arcs) then took 0.45-0.54 s to build instead of
+  // 0.15-0.19 s (3 runs each). Cut pursuit and exact reuse one network's buffers over many cuts
+  // and keep the advice.
+  explicit MaxFlow(bool huge_pages = true);
+
   void set_algorithm(Algorithm algorithm) { algorithm_ = algorithm; }
   // Starts a new network of num_nodes nodes without terminal capacities or edges.
   void Reset(std::int32_t num_nodes);

@@ -84,7 +84,7 @@ MinCutResult MinCutLabels(std::span<const double> source_cap, std::span<const do
   MinCutResult result;
   result.source_side.assign(V, 0);
   if (V == 0) return result;
-  MaxFlow mf;
+  MaxFlow mf(/*huge_pages=*/false);  // one network, one cut (MaxFlow's constructor says why)
   mf.Reset(static_cast<std::int32_t>(V));
   for (std::size_t v = 0; v < V; ++v)
     mf.AddTerminal(static_cast<std::int32_t>(v), fin(source_cap[v]), fin(sink_cap[v]));
