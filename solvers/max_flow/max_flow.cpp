@@ -15,6 +15,24 @@
 
 namespace al {
 
+MaxFlow::MaxFlow(bool huge_pages)
+    : user_tr_(HugePageAllocator<double>(huge_pages)),
+      eu_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ev_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ecap_uv_(HugePageAllocator<double>(huge_pages)),
+      ecap_vu_(HugePageAllocator<double>(huge_pages)),
+      perm_(HugePageAllocator<std::int32_t>(huge_pages)),
+      order_(HugePageAllocator<std::int32_t>(huge_pages)),
+      ufirst_(HugePageAllocator<std::int32_t>(huge_pages)),
+      uadj_(HugePageAllocator<std::int32_t>(huge_pages)),
+      uslot_(HugePageAllocator<std::int32_t>(huge_pages)),
+      nodes_(HugePageAllocator<Node>(huge_pages)),
+      arcs_(HugePageAllocator<Arc>(huge_pages)),
+      tree_(HugePageAllocator<TreeNode>(huge_pages)),
+      bucket_first_(HugePageAllocator<std::int32_t>(huge_pages)),
+      bucket_last_(HugePageAllocator<std::int32_t>(huge_pages)),
+      label_count_(HugePageAllocator<std::int32_t>(huge_pages)) {}
+
 void MaxFlow::Reset(std::int32_t num_nodes) {
   n_ = num_nodes;
   constant_ = 0.0;
@@ -24,7 +42,17 @@ void MaxFlow::Reset(std::int32_t num_nodes) {
   ev_.clear();
   ecap_uv_.clear();
   ecap_vu_.clear();
+  csr_.reset();
   user_tr_.assign(num_nodes, 0.0);
+}
+
+void MaxFlow::SetEdges(std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj,
+                       std::span<const double> forward, std::span<const double> reverse) {
+  eu_.clear();
+  ev_.clear();
+  ecap_uv_.clear();
+  ecap_vu_.clear();
+  csr_ = CsrEdges{first_edge, adj, forward, reverse.empty() ? forward : reverse};
 }
 
 void MaxFlow::AddTerminal(std::int32_t v, double source_cap, double sink_cap) {
@@ -109,6 +137,36 @@ void MaxFlow::Build() {
     arcs_[i] = {perm_[v], j, ecap_uv_[e]};
     arcs_[j] = {perm_[u], i, ecap_vu_[e]};
   }
+}
+
+void MaxFlow::BuildFromCsr() {
+  const std::int32_t n = n_;
+  const CsrEdges& g = *csr_;
+  // Degrees, then each node's first arc; perm_ is the identity (SourceSide reads through it).
+  nodes_.resize(static_cast<std::size_t>(n) + 1);
+  perm_.resize(n);
+  order_.resize(n);  // fill cursor
+  for (std::int32_t u = 0; u < n; ++u) {
+    perm_[u] = u;
+    order_[u] = static_cast<std::int32_t>(g.first[u + 1] - g.first[u]);
+  }
+  for (std::size_t e = 0; e < g.adj.size(); ++e) ++order_[g.adj[e]];
+  std::int32_t pos = 0;
+  for (std::int32_t u = 0; u < n; ++u) {
+    nodes_[u].tr = user_tr_[u];
+    nodes_[u].first = pos;
+    pos += order_[u];
+    order_[u] = nodes_[u].first;
+  }
+  nodes_[n].first = pos;
+  arcs_.resize(static_cast<std::size_t>(pos));
+  for (std::int32_t u = 0; u < n; ++u)
+    for (std::int64_t e = g.first[u]; e < g.first[u + 1]; ++e) {
+      const std::int32_t v = g.adj[e];
+      const std::int32_t i = order_[u]++, j = order_[v]++;
+      arcs_[i] = {v, j, g.forward[e]};
+      arcs_[j] = {u, i, g.reverse[e]};
+    }
 }
 
 void MaxFlow::Activate(std::int32_t v) {
@@ -252,7 +310,8 @@ std::vector<std::pair<std::string, MaxFlow::Algorithm>> MaxFlow::AlgorithmNames(
 }
 
 double MaxFlow::Solve() {
-  Build();
+  if (csr_) BuildFromCsr();
+  else Build();
   GreedyPreflow();
   switch (algorithm_) {
     case Algorithm::kHybrid:
@@ -379,6 +438,15 @@ double MaxFlow::CutValue() const {
     const bool su = SourceSide(eu_[e]), sv = SourceSide(ev_[e]);
     if (su && !sv) cut += ecap_uv_[e];
     else if (!su && sv) cut += ecap_vu_[e];
+  }
+  if (!csr_) return cut;
+  for (std::int32_t u = 0; u < n_; ++u) {
+    const bool su = SourceSide(u);
+    for (std::int64_t e = csr_->first[u]; e < csr_->first[u + 1]; ++e) {
+      const bool sv = SourceSide(csr_->adj[e]);
+      if (su && !sv) cut += csr_->forward[e];
+      else if (!su && sv) cut += csr_->reverse[e];
+    }
   }
   return cut;
 }

@@ -59,6 +59,14 @@ class MaxFlow {
     bool budget_exhausted = false;         // pseudoflow stopped by its safety valve (BK finished)
   };
 
+  // huge_pages = false: the large buffers are not advised onto transparent huge pages. For a network
+  // built and solved once (MinCutLabels: the bk solver's one cut per round). With the kernel's THP
+  // defrag "madvise", an advised first touch may wait for memory compaction: on this project's
+  // shared VMs the bk cut of the 3M scene (8M arcs) then took 0.45-0.54 s to build instead of
+  // 0.15-0.19 s (3 runs each). Cut pursuit and exact reuse one network's buffers over many cuts
+  // and keep the advice.
+  explicit MaxFlow(bool huge_pages = true);
+
   void set_algorithm(Algorithm algorithm) { algorithm_ = algorithm; }
   // Starts a new network of num_nodes nodes without terminal capacities or edges.
   void Reset(std::int32_t num_nodes);
@@ -73,6 +81,17 @@ class MaxFlow {
   void AddUnary(std::int32_t v, double a) { a > 0.0 ? AddTerminal(v, a, 0.0) : AddTerminal(v, 0.0, -a); }
   // Edge with capacity cap_uv from u to v and cap_vu from v to u (finite, >= 0; u != v).
   void AddEdge(std::int32_t u, std::int32_t v, double cap_uv, double cap_vu);
+  // All edges at once in the RefineProblem CSR layout, instead of AddEdge: node u's edges are
+  // [first_edge[u], first_edge[u + 1]), adj[e] the other end (!= u); the arc u -> adj[e] has
+  // capacity forward[e], the opposite arc reverse[e] (empty reverse: = forward; finite, >= 0).
+  // The arcs are laid out straight from the spans: no edge list is staged and nodes keep the
+  // caller's numbering (no breadth-first renumbering), so one large cut first touches less than
+  // half the memory and makes two passes over the edges instead of five (the bk solver's single
+  // cut of 685k nodes and 4.0M edges spent more time there than in the flow). The spans must stay
+  // valid until Solve() returns. A network takes its edges from AddEdge or from SetEdges, not both;
+  // Reset() forgets them.
+  void SetEdges(std::span<const std::int64_t> first_edge, std::span<const std::int32_t> adj,
+                std::span<const double> forward, std::span<const double> reverse = {});
   // Computes a maximum flow; returns the cost of the returned minimum cut (terminal constants
   // included), summed in a fixed order from the capacities as given.
   double Solve();
@@ -120,6 +139,7 @@ class MaxFlow {
   };
 
   void Build();
+  void BuildFromCsr();
   double CutValue() const;
   void GreedyPreflow();
   bool BoykovKolmogorov(std::int64_t max_work);
@@ -151,7 +171,13 @@ class MaxFlow {
   // Large per-cut buffers: huge pages make their first touch cheap (huge_page_allocator.hpp).
   template <class T>
   using Buffer = std::vector<T, HugePageAllocator<T>>;
-  // Input in the caller's numbering (until Build()).
+  // Input in the caller's numbering (until Build()), from AddEdge or SetEdges.
+  struct CsrEdges {
+    std::span<const std::int64_t> first;
+    std::span<const std::int32_t> adj;
+    std::span<const double> forward, reverse;
+  };
+  std::optional<CsrEdges> csr_;
   Buffer<double> user_tr_;
   Buffer<std::int32_t> eu_, ev_;
   Buffer<double> ecap_uv_, ecap_vu_;

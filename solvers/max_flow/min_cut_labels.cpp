@@ -84,16 +84,23 @@ MinCutResult MinCutLabels(std::span<const double> source_cap, std::span<const do
   MinCutResult result;
   result.source_side.assign(V, 0);
   if (V == 0) return result;
-  MaxFlow mf;
+  MaxFlow mf(/*huge_pages=*/false);  // one network, one cut (MaxFlow's constructor says why)
   mf.Reset(static_cast<std::int32_t>(V));
   for (std::size_t v = 0; v < V; ++v)
     mf.AddTerminal(static_cast<std::int32_t>(v), fin(source_cap[v]), fin(sink_cap[v]));
-  for (std::size_t u = 0; u < V; ++u)
-    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
-      const double f = fin(forward_cap[e]);
-      mf.AddEdge(static_cast<std::int32_t>(u), adj_vertices[e], f,
-                 reverse_cap.empty() ? f : fin(reverse_cap[e]));
+  // The edges go to the network as they are; only a capacity of +infinity needs a finite copy.
+  auto has_infinity = [](std::span<const double> c) { return std::any_of(c.begin(), c.end(), [](double x) { return std::isinf(x); }); };
+  std::vector<double> finite_forward, finite_reverse;
+  if (has_infinity(forward_cap) || has_infinity(reverse_cap)) {
+    const std::span<const double> rev = reverse_cap.empty() ? forward_cap : reverse_cap;
+    for (std::size_t e = 0; e < forward_cap.size(); ++e) {
+      finite_forward.push_back(fin(forward_cap[e]));
+      finite_reverse.push_back(fin(rev[e]));
     }
+    forward_cap = finite_forward;
+    reverse_cap = finite_reverse;
+  }
+  mf.SetEdges(first_edge, adj_vertices, forward_cap, reverse_cap);
   result.build_seconds = timer.Seconds();  // Solve() also lays out the CSR arcs (counted as flow)
   Timer flow_timer;
   result.cut_value = mf.Solve();

@@ -56,6 +56,12 @@ void WriteFileAtomically(const fs::path& path, const std::function<void(std::ost
   }
 }
 
+int FlushedDescriptor(std::ostream& os) {
+  os.flush();
+  auto* buffer = dynamic_cast<__gnu_cxx::stdio_filebuf<char>*>(os.rdbuf());
+  return buffer != nullptr && os ? buffer->fd() : -1;
+}
+
 void WriteFileAtomically(const fs::path& path, const std::string& bytes) {
   WriteFileAtomically(path, [&](std::ostream& out) { out.write(bytes.data(), std::streamsize(bytes.size())); });
 }

@@ -7,7 +7,7 @@
 #include <limits>
 #include <tuple>
 
-#include "src/graph/row_tree.hpp"
+#include "src/graph/nearest_row.hpp"
 
 namespace al {
 namespace {
@@ -18,18 +18,17 @@ struct Addition {
   float sq_dist = 0;   // to the nearest row of that part
 };
 
-// Each row's nearest row of part A ∪ B (ties: the smaller row) and that row's part.
-std::vector<Addition> AssignToParts(const EitherObjectInputs& in, const RowTree& tree,
+// Each row's nearest row of part A ∪ B (ties: the smaller row) and that row's part. The queries
+// are independent: split over the threads, each writing its own slot.
+std::vector<Addition> AssignToParts(const EitherObjectInputs& in, const NearestRowTree& tree,
                                     const std::vector<std::int64_t>& rows) {
-  std::vector<std::size_t> index;
-  std::vector<float> sq_dist;
-  std::vector<Addition> out;
-  for (std::int64_t row : rows) {
-    tree.Nearest(&in.xyz[3 * std::size_t(row)], 8, index, sq_dist);  // 8: enough to see a tie
-    std::size_t best = 0;
-    for (std::size_t t = 1; t < index.size(); ++t)
-      if (std::tie(sq_dist[t], tree.rows()[index[t]]) < std::tie(sq_dist[best], tree.rows()[index[best]])) best = t;
-    out.push_back({row, index[best] < in.part_a.size() ? 0 : 1, sq_dist[best]});
+  std::vector<Addition> out(rows.size());
+  const auto n = static_cast<std::int64_t>(rows.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t t = 0; t < n; ++t) {
+    const std::int64_t row = rows[std::size_t(t)];
+    const NearestRowTree::Hit hit = tree.Nearest(&in.xyz[3 * std::size_t(row)]);
+    out[std::size_t(t)] = {row, hit.index < in.part_a.size() ? 0 : 1, hit.sq_dist};
   }
   return out;
 }
@@ -114,7 +113,7 @@ std::vector<std::int64_t> TrimOneSidedAdditions(const EitherObjectInputs& in, co
   if (!in.part_a.empty() && !in.part_b.empty() && !added.empty()) {
     std::vector<std::int64_t> part_rows(in.part_a);
     part_rows.insert(part_rows.end(), in.part_b.begin(), in.part_b.end());
-    const RowTree tree(in.xyz, std::move(part_rows));
+    const NearestRowTree tree(in.xyz, part_rows);
     const std::vector<Addition> adds = AssignToParts(in, tree, added);
     const Readings r = CountReadings(in, refined, adds, AssignToParts(in, tree, fragments));
     for (int h = 0; h < 2; ++h) {

@@ -32,4 +32,23 @@ TEST(HugePageAllocator, ContentsSurviveGrowthAcrossTheThreshold) {
   EXPECT_EQ(v[999'999], 7);
 }
 
+// Without the advice: the same alignment and contents; the flag follows rebinding and copies, and
+// a vector without it can take over one with it (both free alike).
+TEST(HugePageAllocator, WithoutAdviceKeepsAlignmentAndMixesWithAdvised) {
+  const al::HugePageAllocator<double> plain(false);
+  EXPECT_FALSE(plain.advise);
+  EXPECT_FALSE(al::HugePageAllocator<int>(plain).advise);
+  EXPECT_TRUE(al::HugePageAllocator<double>().advise);
+  HugeVector<double> big(1 << 20, 1.5, plain);
+  EXPECT_FALSE(big.get_allocator().advise);
+  EXPECT_EQ(reinterpret_cast<std::uintptr_t>(big.data()) % al::HugePageAllocator<double>::kHugePage, 0u);
+  for (int i = 0; i < 1000; ++i) big.push_back(double(i));  // regrows through the same allocator
+  EXPECT_FALSE(big.get_allocator().advise);
+  EXPECT_EQ(big.back(), 999.0);
+  HugeVector<double> advised(1 << 20, 2.5);
+  advised = std::move(big);
+  EXPECT_EQ(advised[0], 1.5);
+  EXPECT_EQ(advised.size(), std::size_t(1 << 20) + 1000);
+}
+
 }  // namespace

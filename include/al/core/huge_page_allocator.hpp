@@ -21,9 +21,14 @@ struct HugePageAllocator {
   using value_type = T;
   static constexpr std::size_t kHugePage = std::size_t{2} << 20;
 
+  // advise = false: the same alignment and release, without the huge-page advice (for buffers
+  // touched once, where waiting for the kernel to assemble huge pages costs more than it saves).
+  bool advise = true;
+
   HugePageAllocator() noexcept = default;
+  explicit HugePageAllocator(bool advise_huge_pages) noexcept : advise(advise_huge_pages) {}
   template <class U>
-  HugePageAllocator(const HugePageAllocator<U>&) noexcept {}
+  HugePageAllocator(const HugePageAllocator<U>& other) noexcept : advise(other.advise) {}
 
   T* allocate(std::size_t n) {
     // Also after rounding up to whole huge pages the size must be a valid object size.
@@ -36,7 +41,7 @@ struct HugePageAllocator {
     void* p = std::aligned_alloc(kHugePage, rounded);
     if (p == nullptr) throw std::bad_alloc();
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
-    madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves ordinary pages
+    if (advise) madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves ordinary pages
 #endif
     return static_cast<T*>(p);
   }
@@ -46,6 +51,7 @@ struct HugePageAllocator {
     else std::free(p);
   }
 
+  // Any instance frees what another allocated (the advice changes nothing there).
   template <class U>
   bool operator==(const HugePageAllocator<U>&) const noexcept { return true; }
 };
