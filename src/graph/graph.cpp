@@ -239,17 +239,34 @@ void AddGraphWarnings(GraphResult& out) {
 }  // namespace
 
 double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) {
-  const std::size_t V = knn.k > 0 ? knn.neighbors.size() / std::size_t(knn.k) : 0;
-  std::vector<double> d;
-  d.reserve(knn.neighbors.size());
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < knn.k; ++c) {
-      const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
-      if (v < 0) continue;
-      const double x = std::sqrt(SquaredDistance(xyz, u, std::size_t(v)));
-      if (x > 0) d.push_back(x);
+  const std::size_t K = std::size_t(std::max(knn.k, 0));
+  const std::size_t V = K > 0 ? knn.neighbors.size() / K : 0;
+  // The non-zero squared lengths, gathered in parallel: their median is the median length squared
+  // (sqrt is monotone), so only the middle values need a root.
+  std::vector<std::int64_t> start(V + 1, 0);
+  const auto vv = static_cast<std::int64_t>(V);
+  auto length2 = [&](std::size_t u, std::size_t c) {
+    const std::int32_t v = knn.neighbors[u * K + c];
+    return v < 0 ? 0.0 : SquaredDistance(xyz, u, std::size_t(v));
+  };
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
+    for (std::size_t c = 0; c < K; ++c) start[std::size_t(u) + 1] += length2(std::size_t(u), c) > 0;
+  for (std::size_t u = 0; u < V; ++u) start[u + 1] += start[u];
+  std::vector<double> d2(static_cast<std::size_t>(start[V]));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    std::int64_t at = start[std::size_t(u)];
+    for (std::size_t c = 0; c < K; ++c) {
+      const double x2 = length2(std::size_t(u), c);
+      if (x2 > 0) d2[std::size_t(at++)] = x2;
     }
-  return d.empty() ? 0.0 : MedianOf(std::move(d));
+  }
+  if (d2.empty()) return 0.0;
+  const std::size_t h = d2.size() / 2;
+  std::nth_element(d2.begin(), d2.begin() + std::ptrdiff_t(h), d2.end());
+  if (d2.size() % 2) return std::sqrt(d2[h]);
+  return 0.5 * (std::sqrt(d2[h]) + std::sqrt(*std::max_element(d2.begin(), d2.begin() + std::ptrdiff_t(h))));
 }
 
 namespace graph_internal {
