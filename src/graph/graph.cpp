@@ -70,20 +70,32 @@ SceneFeatureMap FeatureMapFor(Eigen::Ref<const RowMatXf> features, const std::ve
   return map;
 }
 
-// The nodes' feature rows (zero rows for zero norm, flagged).
+}  // namespace
+
+namespace graph_internal {
+
 RowMatXf NodeFeatures(const SceneFeatureMap& map, const std::vector<std::int64_t>& node_ids,
                       std::vector<std::uint8_t>& zero_norm) {
   const std::size_t V = node_ids.size();
   RowMatXf out(Eigen::Index(V), map.features.cols());
   zero_norm.assign(V, 0);
   const auto vv = static_cast<std::int64_t>(V);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t v = 0; v < vv; ++v)
-    zero_norm[std::size_t(v)] = !map.Row(node_ids[std::size_t(v)], out.row(v).data()) && map.normalize;
+#pragma omp parallel
+  {
+    // Each row is mapped in an aligned buffer: Eigen's vectorised norms start where the data is
+    // aligned, so a row's last bits must not depend on where in the matrix it lands (a growth round
+    // maps the same row again at another index).
+    Eigen::VectorXf row(map.features.cols());
+#pragma omp for schedule(static)
+    for (std::int64_t v = 0; v < vv; ++v) {
+      zero_norm[std::size_t(v)] = !map.Row(node_ids[std::size_t(v)], row.data()) && map.normalize;
+      out.row(v) = row.transpose();
+    }
+  }
   return out;
 }
 
-}  // namespace
+}  // namespace graph_internal
 
 RowMatXf ColourFeatures(const Scene& scene) {
   if (scene.sh.rows() != static_cast<Eigen::Index>(scene.size()) || scene.sh.cols() < 3)
@@ -129,12 +141,13 @@ SceneNodes ActiveGaussians(const Scene& scene, Eigen::Ref<const RowMatXf> featur
   const bool has_rot = scene.rotations.rows() == n_rows;
   const bool has_op = scene.opacity_logits.size() == n_rows;
   const bool has_sh = scene.sh.rows() == n_rows;
+  const bool has_undecoded = scene.nonfinite_undecoded.size() == N;
   const auto nn = static_cast<std::int64_t>(N);
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < nn; ++i) {
     bool ok = RowFinite(scene.means, i) && RowFinite(scene.log_scales, i) && RowFinite(features, i) &&
               (!has_rot || RowFinite(scene.rotations, i)) && (!has_op || std::isfinite(scene.opacity_logits[i])) &&
-              (!has_sh || RowFinite(scene.sh, i));
+              (!has_sh || RowFinite(scene.sh, i)) && (!has_undecoded || !scene.nonfinite_undecoded[std::size_t(i)]);
     double r = 0.0;
     for (int a = 0; a < 3; ++a) {
       s.xyz[3 * i + a] = scene.means(i, a);
@@ -239,17 +252,34 @@ void AddGraphWarnings(GraphResult& out) {
 }  // namespace
 
 double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) {
-  const std::size_t V = knn.k > 0 ? knn.neighbors.size() / std::size_t(knn.k) : 0;
-  std::vector<double> d;
-  d.reserve(knn.neighbors.size());
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < knn.k; ++c) {
-      const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
-      if (v < 0) continue;
-      const double x = std::sqrt(SquaredDistance(xyz, u, std::size_t(v)));
-      if (x > 0) d.push_back(x);
+  const std::size_t K = std::size_t(std::max(knn.k, 0));
+  const std::size_t V = K > 0 ? knn.neighbors.size() / K : 0;
+  // The non-zero squared lengths, gathered in parallel: their median is the median length squared
+  // (sqrt is monotone), so only the middle values need a root.
+  std::vector<std::int64_t> start(V + 1, 0);
+  const auto vv = static_cast<std::int64_t>(V);
+  auto length2 = [&](std::size_t u, std::size_t c) {
+    const std::int32_t v = knn.neighbors[u * K + c];
+    return v < 0 ? 0.0 : SquaredDistance(xyz, u, std::size_t(v));
+  };
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
+    for (std::size_t c = 0; c < K; ++c) start[std::size_t(u) + 1] += length2(std::size_t(u), c) > 0;
+  for (std::size_t u = 0; u < V; ++u) start[u + 1] += start[u];
+  std::vector<double> d2(static_cast<std::size_t>(start[V]));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    std::int64_t at = start[std::size_t(u)];
+    for (std::size_t c = 0; c < K; ++c) {
+      const double x2 = length2(std::size_t(u), c);
+      if (x2 > 0) d2[std::size_t(at++)] = x2;
     }
-  return d.empty() ? 0.0 : MedianOf(std::move(d));
+  }
+  if (d2.empty()) return 0.0;
+  const std::size_t h = d2.size() / 2;
+  std::nth_element(d2.begin(), d2.begin() + std::ptrdiff_t(h), d2.end());
+  if (d2.size() % 2) return std::sqrt(d2[h]);
+  return 0.5 * (std::sqrt(d2[h]) + std::sqrt(*std::max_element(d2.begin(), d2.begin() + std::ptrdiff_t(h))));
 }
 
 namespace graph_internal {
@@ -266,8 +296,8 @@ GraphResult NewGraphResult(const Scene& scene, Eigen::Ref<const RowMatXf> featur
   return out;
 }
 
-void FinishGraph(const GraphGrowthState& state, Eigen::Ref<const RowMatXf> features, const GraphOptions& options,
-                 GraphResult& out) {
+void FinishGraph(const GraphGrowthState& state, const RowMatXf& node_features, Eigen::Ref<const RowMatXf> features,
+                 const GraphOptions& options, GraphResult& out) {
   RefineProblem& P = out.problem;
   GraphStats& st = out.stats;
   const double median_edge = MedianKnnEdgeLength(state.knn, state.node_xyz);  // σ_x and the removed parts' links
@@ -278,7 +308,7 @@ void FinishGraph(const GraphGrowthState& state, Eigen::Ref<const RowMatXf> featu
     const KeptCredit credit = guard && st.second_object.Found() ? KeptCredit::kWithheld : KeptCredit::kAllowed;
     std::vector<double> upper;
     const std::vector<double> mask = std::move(P.y_remove);  // the mask before the prior, for the groups
-    P.y_remove = FeaturePrior(state.node_features, mask, options.prior, &st.prior, credit, &upper);
+    P.y_remove = FeaturePrior(node_features, mask, options.prior, &st.prior, credit, &upper);
     if (!st.second_object.Found()) st.whole_object_group = FindWholeObjectGroup(st.prior, upper, mask, P.node_ids);
   }
   SpatialScale(median_edge, state.scene, P, options, st);
@@ -319,10 +349,10 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
   stage.Reset();
   const SceneFeatureMap feature_map = FeatureMapFor(features, state->scene.active, options, st);
   out.feature_mean = feature_map.mean;
-  state->node_features = NodeFeatures(feature_map, P.node_ids, out.zero_norm);
+  const RowMatXf node_features = graph_internal::NodeFeatures(feature_map, P.node_ids, out.zero_norm);
   state->pairs = graph_internal::UniquePairs(state->knn, P.node_ids.size());
-  graph_internal::PairDistances(state->pairs, state->node_features, out.zero_norm);
-  graph_internal::FinishGraph(*state, features, options, out);
+  graph_internal::PairDistances(state->pairs, node_features, out.zero_norm);
+  graph_internal::FinishGraph(*state, node_features, features, options, out);
   st.seconds_edges = stage.Seconds();
   st.seconds_total = total.Seconds();
   out.growth = std::move(state);

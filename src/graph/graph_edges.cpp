@@ -34,21 +34,31 @@ PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
   const int K = knn.k;
   PairCache pc{std::vector<std::int64_t>(V + 1, 0), {}, {}};
   std::vector<std::int64_t> start(V + 1, 0);
-  for (std::size_t u = 0; u < V; ++u)
+  const auto vv = static_cast<std::int64_t>(V);
+  // Each pair goes to its smaller node's row; rows are sorted afterwards, so the order in which
+  // the threads fill a row does not matter.
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
     for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) ++start[std::min<std::size_t>(u, v) + 1];
+      const std::int32_t v = knn.neighbors[std::size_t(u) * K + c];
+      if (v < 0) continue;
+#pragma omp atomic
+      ++start[std::size_t(std::min<std::int64_t>(u, v)) + 1];
     }
   for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
   std::vector<std::int32_t> all(std::size_t(start[V]));
   std::vector<std::int64_t> cur(start.begin(), start.end() - 1);
-  for (std::size_t u = 0; u < V; ++u)
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
     for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) all[std::size_t(cur[std::min<std::size_t>(u, v)]++)] = std::int32_t(std::max<std::size_t>(u, v));
+      const std::int32_t v = knn.neighbors[std::size_t(u) * K + c];
+      if (v < 0) continue;
+      std::int64_t at;
+#pragma omp atomic capture
+      at = cur[std::size_t(std::min<std::int64_t>(u, v))]++;
+      all[std::size_t(at)] = std::int32_t(std::max<std::int64_t>(u, v));
     }
   std::vector<std::int64_t> count(V, 0);
-  const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(dynamic, 2048)
   for (std::int64_t u = 0; u < vv; ++u) {
     auto* b = all.data() + start[u];
@@ -64,23 +74,64 @@ PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
   return pc;
 }
 
+namespace {
+
+// Squared feature distances of row u to rows v[0..4), four sums side by side: each still adds its
+// dimensions in order (the same double as FeatureDistance), but the four chains overlap instead
+// of waiting on one another.
+void FeatureDistances4(const RowMatXf& nf, std::int64_t u, const std::int32_t* v, double* out) {
+  const float* fu = nf.row(u).data();
+  const float* f[4] = {nf.row(v[0]).data(), nf.row(v[1]).data(), nf.row(v[2]).data(), nf.row(v[3]).data()};
+  double s[4] = {0, 0, 0, 0};
+  for (Eigen::Index d = 0; d < nf.cols(); ++d)
+    for (int j = 0; j < 4; ++j) {
+      const double t = double(fu[d]) - double(f[j][d]);
+      s[j] += t * t;
+    }
+  for (int j = 0; j < 4; ++j) out[j] = s[j];
+}
+
+// The pairs of row u that need a distance computed (both ends with a feature, no cached value),
+// four at a time.
+void ComputeRow(PairCache& pc, const RowMatXf& nf, std::int64_t u, std::vector<std::int64_t>& todo) {
+  std::size_t t = 0;
+  for (; t + 4 <= todo.size(); t += 4) {
+    std::int32_t v[4];
+    double d[4];
+    for (int j = 0; j < 4; ++j) v[j] = pc.other[std::size_t(todo[t + std::size_t(j)])];
+    FeatureDistances4(nf, u, v, d);
+    for (int j = 0; j < 4; ++j) pc.df2[std::size_t(todo[t + std::size_t(j)])] = d[j];
+  }
+  for (; t < todo.size(); ++t) pc.df2[std::size_t(todo[t])] = FeatureDistance(nf, u, pc.other[std::size_t(todo[t])]);
+  todo.clear();
+}
+
+}  // namespace
+
 void PairDistances(PairCache& pc, const RowMatXf& nf, const std::vector<std::uint8_t>& zero_norm,
                    const PairCache* previous, const std::vector<std::int32_t>* old_of) {
   const auto V = static_cast<std::int64_t>(pc.row_start.size()) - 1;
-  pc.df2.assign(pc.other.size(), 0.0);
-#pragma omp parallel for schedule(dynamic, 2048)
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = pc.row_start[u]; e < pc.row_start[u + 1]; ++e) {
-      const std::int32_t v = pc.other[std::size_t(e)];
-      if (zero_norm[std::size_t(u)] || zero_norm[std::size_t(v)]) {
-        pc.df2[std::size_t(e)] = -1.0;
-        continue;
+  pc.df2.resize(pc.other.size());
+#pragma omp parallel
+  {
+    std::vector<std::int64_t> todo;
+#pragma omp for schedule(dynamic, 2048)
+    for (std::int64_t u = 0; u < V; ++u) {
+      for (std::int64_t e = pc.row_start[u]; e < pc.row_start[u + 1]; ++e) {
+        const std::int32_t v = pc.other[std::size_t(e)];
+        if (zero_norm[std::size_t(u)] || zero_norm[std::size_t(v)]) {
+          pc.df2[std::size_t(e)] = -1.0;
+          continue;
+        }
+        double d = std::nan("");
+        if (previous && (*old_of)[std::size_t(u)] >= 0 && (*old_of)[std::size_t(v)] >= 0)
+          d = Cached(*previous, (*old_of)[std::size_t(u)], (*old_of)[std::size_t(v)]);
+        if (std::isnan(d)) todo.push_back(e);
+        else pc.df2[std::size_t(e)] = d;
       }
-      double d = std::nan("");
-      if (previous && (*old_of)[std::size_t(u)] >= 0 && (*old_of)[std::size_t(v)] >= 0)
-        d = Cached(*previous, (*old_of)[std::size_t(u)], (*old_of)[std::size_t(v)]);
-      pc.df2[std::size_t(e)] = std::isnan(d) ? FeatureDistance(nf, u, v) : d;
+      ComputeRow(pc, nf, u, todo);
     }
+  }
 }
 
 void GateAndWeigh(const PairCache& pc, const std::vector<float>& node_xyz, double gate, const GraphOptions& options,

@@ -62,34 +62,25 @@ NodeMerge MergeNodes(const std::vector<std::int64_t>& old_ids, const std::vector
   return m;
 }
 
-// Node positions, observations (the mask) and feature rows of the merged node list; old rows are
-// copied, new ones read through the previous build's feature map.
-void FillNodes(const NodeMerge& m, const std::vector<bool>& removed, const SceneFeatureMap& map,
-               const std::vector<std::uint8_t>& old_zero_norm, GraphGrowthState& state, GraphResult& out) {
+// Node positions and observations (the mask) of the merged node list; returns its feature rows,
+// mapped again through the previous build's feature map (the same rows as before for old nodes).
+RowMatXf FillNodes(const NodeMerge& m, const std::vector<bool>& removed, const SceneFeatureMap& map,
+                   GraphGrowthState& state, GraphResult& out) {
   RefineProblem& P = out.problem;
   const std::size_t V = m.ids.size();
   P.node_ids = m.ids;
   P.y_remove.resize(V);
   P.node_weights.assign(V, 1.0);
   std::vector<float> xyz(3 * V);
-  RowMatXf nf(Eigen::Index(V), state.node_features.cols());
-  out.zero_norm.assign(V, 0);
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(static)
   for (std::int64_t v = 0; v < vv; ++v) {
     const std::size_t i = std::size_t(m.ids[std::size_t(v)]);
     P.y_remove[std::size_t(v)] = removed[i] ? 1.0 : 0.0;
     for (int a = 0; a < 3; ++a) xyz[3 * std::size_t(v) + a] = state.scene.xyz[3 * i + a];
-    const std::int32_t o = m.old_of[std::size_t(v)];
-    if (o >= 0) {
-      nf.row(v) = state.node_features.row(o);
-      out.zero_norm[std::size_t(v)] = old_zero_norm[std::size_t(o)];
-    } else {
-      out.zero_norm[std::size_t(v)] = !map.Row(std::int64_t(i), nf.row(v).data()) && map.normalize;
-    }
   }
   state.node_xyz = std::move(xyz);
-  state.node_features = std::move(nf);
+  return graph_internal::NodeFeatures(map, P.node_ids, out.zero_norm);
 }
 
 // The state to grow: the previous build's own when nothing else shares it, else a copy.
@@ -128,7 +119,7 @@ GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> featu
   out.feature_mean = previous.feature_mean;
   out.problem.kl_smoothing = options.kl_smoothing;
   const SceneFeatureMap map{features, options.normalize_features, before.centred, previous.feature_mean};
-  FillNodes(merge, removed, map, previous.zero_norm, *state, out);
+  const RowMatXf node_features = FillNodes(merge, removed, map, *state, out);
   st.seconds_candidates = stage.Seconds();
   stage.Reset();
   KnnOptions ko;
@@ -138,9 +129,9 @@ GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> featu
   st.seconds_knn = stage.Seconds();
   stage.Reset();
   graph_internal::PairCache pairs = graph_internal::UniquePairs(state->knn, st.nodes);
-  graph_internal::PairDistances(pairs, state->node_features, out.zero_norm, &state->pairs, &merge.old_of);
+  graph_internal::PairDistances(pairs, node_features, out.zero_norm, &state->pairs, &merge.old_of);
   state->pairs = std::move(pairs);
-  graph_internal::FinishGraph(*state, features, options, out);
+  graph_internal::FinishGraph(*state, node_features, features, options, out);
   st.seconds_edges = stage.Seconds();
   st.seconds_total = total.Seconds();
   out.growth = std::move(state);

@@ -7,6 +7,7 @@
 
 #include "al/graph/graph.hpp"
 #include "al/graph/knn.hpp"
+#include "al/graph/taken_whole.hpp"
 
 namespace al {
 
@@ -60,8 +61,13 @@ GraphResult NewGraphResult(const Scene& scene, Eigen::Ref<const RowMatXf> featur
 // The steps after the kNN lists, node features and pair distances, for the first build and the
 // growth rounds alike: σ_x, the removed set's parts, the feature prior, the gate and weights, the
 // components and the warnings. out.problem holds the nodes with the mask as y_remove.
-void FinishGraph(const al::GraphGrowthState& state, Eigen::Ref<const RowMatXf> features, const GraphOptions& options,
-                 GraphResult& out);
+void FinishGraph(const al::GraphGrowthState& state, const RowMatXf& node_features, Eigen::Ref<const RowMatXf> features,
+                 const GraphOptions& options, GraphResult& out);
+
+// The nodes' feature rows as the gate compares them (zero rows for zero norm, flagged). Not kept
+// between growth rounds (a round maps them again: 88 MB fewer held through the solve at 3M).
+RowMatXf NodeFeatures(const SceneFeatureMap& map, const std::vector<std::int64_t>& node_ids,
+                      std::vector<std::uint8_t>& zero_norm);
 
 }  // namespace graph_internal
 
@@ -71,7 +77,6 @@ struct GraphGrowthState {
   std::vector<std::uint8_t> candidate;  // N: in the candidate set
   std::vector<float> node_xyz;          // 3V node positions
   KnnResult knn;                        // among the nodes
-  RowMatXf node_features;               // V rows as the gate compares them
   graph_internal::PairCache pairs;
   double gate = 0.0;
 };

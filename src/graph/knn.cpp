@@ -9,6 +9,7 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <parallel/algorithm>
 
 #include <flann/flann.hpp>
 
@@ -27,35 +28,99 @@ std::uint64_t Spread3(std::uint64_t v) {  // 21 bits -> every third bit
   return v;
 }
 
+// FLANN's exact kd-tree. L2_3D is L2_Simple unrolled for three coordinates: the same float sums in
+// the same order, without the loop.
+using ExactTree = flann::KDTreeSingleIndex<flann::L2_3D<float>>;
+
+// (63-bit Morton code, point index), sorted: the points along a Z-order curve over their box.
+using MortonCodes = std::vector<std::pair<std::uint64_t, std::int32_t>>;
+
+MortonCodes SortedMortonCodes(std::span<const float> xyz) {
+  const std::size_t n = xyz.size() / 3;
+  float lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::numeric_limits<float>::infinity();
+    hi[a] = -lo[a];
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = std::min(lo[a], xyz[3 * i + a]);
+      hi[a] = std::max(hi[a], xyz[3 * i + a]);
+    }
+  MortonCodes code(n);
+  const auto nn = static_cast<std::int64_t>(n);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < nn; ++i) {
+    std::uint64_t c = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double ext = double(hi[a]) - lo[a];
+      const double t = ext > 0 ? (double(xyz[3 * std::size_t(i) + a]) - lo[a]) / ext : 0.0;
+      c |= Spread3(static_cast<std::uint64_t>(t * 2097151.0)) << a;
+    }
+    code[std::size_t(i)] = {c, static_cast<std::int32_t>(i)};
+  }
+  // Keys are unique (the index breaks ties), so the parallel sort's order is the sequential one.
+  __gnu_parallel::sort(code.begin(), code.end());
+  return code;
+}
+
 struct Entry {
   float d;
   std::int32_t i;
 };
 
-// One query: sorted (dist, index) list of the `want` nearest points other than `self`.
-template <class Index>
-void Query(const Index& index, const float* q, std::int32_t self, int k, std::size_t n,
-           const flann::SearchParams& params, std::vector<Entry>& out, std::size_t& retries) {
-  std::size_t m = std::min<std::size_t>(n, static_cast<std::size_t>(k) + 1 + 8);
+// Neighbours asked for beyond the k + 1 a query needs: room for a tie at the k-th before a second
+// search is needed. Exact search gives the same lists for any value; a larger one only makes
+// every search keep (and insert into) a longer list.
+constexpr std::size_t kTieSlack = 1;
+
+bool EntryLess(const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); }
+
+// One thread's buffers for its queries: a result set and two lists per query cost as much in
+// allocations as a 3-D search.
+struct QueryScratch {
+  std::unique_ptr<flann::KNNSimpleResultSet<float>> rs;
+  std::size_t capacity = 0;
   std::vector<std::size_t> idx;
   std::vector<float> dist;
+  std::vector<Entry> out;
+};
+
+// The m nearest points of q in the index (fewer when it holds fewer) into s.idx / s.dist,
+// nearest first; returns how many.
+template <class Index>
+std::size_t Search(const Index& index, const float* q, std::size_t m, const flann::SearchParams& params,
+                   QueryScratch& s) {
+  if (!s.rs || s.capacity != m) {
+    s.rs = std::make_unique<flann::KNNSimpleResultSet<float>>(m);
+    s.capacity = m;
+  } else {
+    s.rs->clear();
+  }
+  index.findNeighbors(*s.rs, q, params);
+  const std::size_t got = s.rs->size();
+  s.idx.resize(got);
+  s.dist.resize(got);
+  if (got > 0) s.rs->copy(s.idx.data(), s.dist.data(), got);
+  return got;
+}
+
+// One query: s.out = sorted (dist, index) list of the k nearest points other than `self`.
+template <class Index>
+void Query(const Index& index, const float* q, std::int32_t self, int k, std::size_t n,
+           const flann::SearchParams& params, QueryScratch& s, std::size_t& retries) {
+  std::size_t m = std::min<std::size_t>(n, static_cast<std::size_t>(k) + 1 + kTieSlack);
+  std::vector<Entry>& out = s.out;
   for (;;) {
-    flann::KNNSimpleResultSet<float> rs(m);
-    index.findNeighbors(rs, q, params);
-    const std::size_t got = rs.size();
-    idx.resize(got);
-    dist.resize(got);
-    if (got > 0) rs.copy(idx.data(), dist.data(), got);
+    const std::size_t got = Search(index, q, m, params, s);
     out.clear();
     for (std::size_t t = 0; t < got; ++t)
-      if (static_cast<std::int32_t>(idx[t]) != self)
-        out.push_back({dist[t], static_cast<std::int32_t>(idx[t])});
-    std::sort(out.begin(), out.end(),
-              [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+      if (static_cast<std::int32_t>(s.idx[t]) != self) out.push_back({s.dist[t], static_cast<std::int32_t>(s.idx[t])});
+    std::sort(out.begin(), out.end(), EntryLess);
     // Complete when every point was returned, or the k-th kept neighbour is strictly closer
     // than the farthest returned point (so no unseen point can tie with it).
     const bool all = got >= n || got < m;
-    if (all || (out.size() >= static_cast<std::size_t>(k) && out[k - 1].d < dist[got - 1])) break;
+    if (all || (out.size() >= static_cast<std::size_t>(k) && out[k - 1].d < s.dist[got - 1])) break;
     m = std::min(n, 2 * m);
     ++retries;
   }
@@ -63,51 +128,64 @@ void Query(const Index& index, const float* q, std::int32_t self, int k, std::si
 }
 
 // Exactly coincident points (same coordinates) as groups: points[begin[g]..begin[g+1]) are the
-// members of group g in ascending index; rep[g] is its first member. Empty when all are distinct.
+// members of group g in ascending index; groups are numbered by their first member rep[g].
+// Empty when all are distinct.
 struct Groups {
   std::vector<std::int32_t> group_of, members, begin, rep;
 };
 
-Groups GroupCoincident(std::span<const float> xyz) {
-  const std::size_t n = xyz.size() / 3;
-  auto key = [&](std::int32_t i) {
-    std::array<std::uint32_t, 3> k;
-    std::memcpy(k.data(), &xyz[3 * std::size_t(i)], sizeof k);
-    return k;
-  };
-  std::vector<std::int32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = static_cast<std::int32_t>(i);
-  std::sort(order.begin(), order.end(), [&](std::int32_t a, std::int32_t b) {
-    const auto ka = key(a), kb = key(b);
-    return ka != kb ? ka < kb : a < b;
-  });
+using CoordKey = std::array<std::uint32_t, 3>;  // a point's coordinate bits: equal keys = coincident
+CoordKey KeyOf(std::span<const float> xyz, std::int32_t i) {
+  CoordKey k;
+  std::memcpy(k.data(), &xyz[3 * std::size_t(i)], sizeof k);
+  return k;
+}
+
+// Per point, the smallest index at exactly its position. Coincident points share a Morton code,
+// so only runs of equal codes in the sorted code list need their keys compared.
+std::vector<std::int32_t> FirstAtSamePosition(std::span<const float> xyz, const MortonCodes& sorted) {
+  const std::size_t n = sorted.size();
+  std::vector<std::int32_t> first(n);
+  std::vector<std::int32_t> run;
+  for (std::size_t t = 0; t < n;) {
+    std::size_t e = t + 1;
+    while (e < n && sorted[e].first == sorted[t].first) ++e;
+    if (e == t + 1) {
+      first[std::size_t(sorted[t].second)] = sorted[t].second;
+    } else {
+      run.clear();
+      for (std::size_t r = t; r < e; ++r) run.push_back(sorted[r].second);
+      std::sort(run.begin(), run.end(), [&](std::int32_t a, std::int32_t b) {
+        const CoordKey ka = KeyOf(xyz, a), kb = KeyOf(xyz, b);
+        return ka != kb ? ka < kb : a < b;
+      });
+      for (std::size_t r = 0; r < run.size(); ++r)
+        first[std::size_t(run[r])] = r > 0 && KeyOf(xyz, run[r]) == KeyOf(xyz, run[r - 1]) ? first[std::size_t(run[r - 1])] : run[r];
+    }
+    t = e;
+  }
+  return first;
+}
+
+Groups GroupCoincident(std::span<const float> xyz, const MortonCodes& sorted) {
+  const std::size_t n = sorted.size();
+  const std::vector<std::int32_t> first = FirstAtSamePosition(xyz, sorted);
+  std::size_t m = 0;
+  for (std::size_t i = 0; i < n; ++i) m += first[i] == std::int32_t(i);
+  if (m == n) return {};
   Groups g;
-  g.group_of.assign(n, -1);
-  for (std::size_t t = 0; t < n; ++t) {
-    if (t == 0 || key(order[t]) != key(order[t - 1])) g.begin.push_back(static_cast<std::int32_t>(t));
-    g.group_of[order[t]] = static_cast<std::int32_t>(g.begin.size() - 1);
+  g.group_of.resize(n);
+  g.begin.assign(m + 1, 0);
+  g.rep.reserve(m);
+  for (std::size_t i = 0; i < n; ++i) {  // ascending index: a group is numbered at its first member
+    if (first[i] == std::int32_t(i)) g.rep.push_back(std::int32_t(i));
+    g.group_of[i] = first[i] == std::int32_t(i) ? std::int32_t(g.rep.size() - 1) : g.group_of[std::size_t(first[i])];
+    ++g.begin[std::size_t(g.group_of[i]) + 1];
   }
-  if (g.begin.size() == n) return {};
-  g.begin.push_back(static_cast<std::int32_t>(n));
-  g.members = std::move(order);
-  // Renumber groups by their first member, so the unique-point array keeps input order.
-  const std::size_t m = g.begin.size() - 1;
-  std::vector<std::int32_t> by_first(m);
-  for (std::size_t u = 0; u < m; ++u) by_first[u] = static_cast<std::int32_t>(u);
-  std::sort(by_first.begin(), by_first.end(),
-            [&](std::int32_t a, std::int32_t b) { return g.members[g.begin[a]] < g.members[g.begin[b]]; });
-  std::vector<std::int32_t> rank(m), members(n), begin(m + 1, 0);
-  for (std::size_t r = 0; r < m; ++r) rank[by_first[r]] = static_cast<std::int32_t>(r);
-  for (std::size_t r = 0; r < m; ++r) {
-    const std::int32_t u = by_first[r];
-    begin[r + 1] = begin[r] + (g.begin[u + 1] - g.begin[u]);
-    std::copy(g.members.begin() + g.begin[u], g.members.begin() + g.begin[u + 1], members.begin() + begin[r]);
-  }
-  for (auto& go : g.group_of) go = rank[go];
-  g.members = std::move(members);
-  g.begin = std::move(begin);
-  g.rep.resize(m);
-  for (std::size_t r = 0; r < m; ++r) g.rep[r] = g.members[g.begin[r]];
+  for (std::size_t u = 0; u < m; ++u) g.begin[u + 1] += g.begin[u];
+  g.members.resize(n);
+  std::vector<std::int32_t> at(g.begin.begin(), g.begin.end() - 1);
+  for (std::size_t i = 0; i < n; ++i) g.members[std::size_t(at[std::size_t(g.group_of[i])]++)] = std::int32_t(i);
   return g;
 }
 
@@ -117,30 +195,23 @@ Groups GroupCoincident(std::span<const float> xyz) {
 // instead of 100k per query (the tie retry would otherwise grow to the whole group).
 template <class Index>
 void QueryGroup(const Index& index, const float* q, std::int32_t u, std::size_t want, const Groups& g,
-                const flann::SearchParams& params, std::vector<Entry>& out, std::size_t& retries) {
+                const flann::SearchParams& params, QueryScratch& s, std::size_t& retries) {
   const std::size_t m = g.rep.size();
-  std::size_t ask = std::min<std::size_t>(m, want + 1 + 8);
-  std::vector<std::size_t> idx;
-  std::vector<float> dist;
+  std::size_t ask = std::min<std::size_t>(m, want + 1 + kTieSlack);
+  std::vector<Entry>& out = s.out;
   for (;;) {
-    flann::KNNSimpleResultSet<float> rs(ask);
-    index.findNeighbors(rs, q, params);
-    const std::size_t got = rs.size();
-    idx.resize(got);
-    dist.resize(got);
-    if (got > 0) rs.copy(idx.data(), dist.data(), got);
+    const std::size_t got = Search(index, q, ask, params, s);
     out.clear();
     for (std::int32_t t = g.begin[u]; t < g.begin[u + 1] && out.size() < want; ++t) out.push_back({0.0f, g.members[t]});
     for (std::size_t t = 0; t < got; ++t) {
-      const auto v = static_cast<std::int32_t>(idx[t]);
+      const auto v = static_cast<std::int32_t>(s.idx[t]);
       if (v == u) continue;
       const std::int32_t end = std::min<std::int32_t>(g.begin[v + 1], g.begin[v] + std::int32_t(want));
-      for (std::int32_t s = g.begin[v]; s < end; ++s) out.push_back({dist[t], g.members[s]});
+      for (std::int32_t r = g.begin[v]; r < end; ++r) out.push_back({s.dist[t], g.members[r]});
     }
-    std::sort(out.begin(), out.end(),
-              [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+    std::sort(out.begin(), out.end(), EntryLess);
     const bool all = got >= m || got < ask;
-    if (all || (out.size() >= want && out[want - 1].d < dist[got - 1])) break;
+    if (all || (out.size() >= want && out[want - 1].d < s.dist[got - 1])) break;
     ask = std::min(m, 2 * ask);
     ++retries;
   }
@@ -149,21 +220,20 @@ void QueryGroup(const Index& index, const float* q, std::int32_t u, std::size_t 
 
 // KnnAmongPoints when some points coincide: one query per unique point, on a tree of unique points.
 template <class Index>
-void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g, int k,
-                const flann::SearchParams& params, KnnResult& result, std::size_t& retries) {
+void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g, const std::vector<std::int32_t>& order,
+                int k, const flann::SearchParams& params, KnnResult& result, std::size_t& retries) {
   const auto m = static_cast<std::int64_t>(g.rep.size());
-  const std::vector<std::int32_t> order = MortonOrder(uxyz);
 #pragma omp parallel reduction(+ : retries)
   {
-    std::vector<Entry> out;
+    QueryScratch scratch;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t t = 0; t < m; ++t) {
       const std::int32_t u = order[t];
-      QueryGroup(index, &uxyz[3 * std::size_t(u)], u, std::size_t(k) + 1, g, params, out, retries);
+      QueryGroup(index, &uxyz[3 * std::size_t(u)], u, std::size_t(k) + 1, g, params, scratch, retries);
       for (std::int32_t s = g.begin[u]; s < g.begin[u + 1]; ++s) {
         const std::int32_t i = g.members[s];
         std::size_t c = 0;
-        for (const Entry& e : out) {
+        for (const Entry& e : scratch.out) {
           if (e.i == i || c == std::size_t(k)) continue;
           result.neighbors[std::size_t(i) * k + c] = e.i;
           result.sq_dist[std::size_t(i) * k + c] = e.d;
@@ -177,30 +247,9 @@ void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g
 }  // namespace
 
 std::vector<std::int32_t> MortonOrder(std::span<const float> xyz) {
-  const std::size_t n = xyz.size() / 3;
-  float lo[3], hi[3];
-  for (int a = 0; a < 3; ++a) {
-    lo[a] = std::numeric_limits<float>::infinity();
-    hi[a] = -lo[a];
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = std::min(lo[a], xyz[3 * i + a]);
-      hi[a] = std::max(hi[a], xyz[3 * i + a]);
-    }
-  std::vector<std::pair<std::uint64_t, std::int32_t>> code(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    std::uint64_t c = 0;
-    for (int a = 0; a < 3; ++a) {
-      const double ext = double(hi[a]) - lo[a];
-      const double t = ext > 0 ? (double(xyz[3 * i + a]) - lo[a]) / ext : 0.0;
-      c |= Spread3(static_cast<std::uint64_t>(t * 2097151.0)) << a;
-    }
-    code[i] = {c, static_cast<std::int32_t>(i)};
-  }
-  std::sort(code.begin(), code.end());
-  std::vector<std::int32_t> order(n);
-  for (std::size_t i = 0; i < n; ++i) order[i] = code[i].second;
+  const MortonCodes code = SortedMortonCodes(xyz);
+  std::vector<std::int32_t> order(code.size());
+  for (std::size_t i = 0; i < code.size(); ++i) order[i] = code[i].second;
   return order;
 }
 
@@ -222,23 +271,28 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
     result.seconds = timer.Seconds();
     return result;
   }
-  const Groups groups = GroupCoincident(xyz);
+  const MortonCodes codes = SortedMortonCodes(xyz);
+  const Groups groups = GroupCoincident(xyz, codes);
   if (!groups.rep.empty()) {
     result.coincident = n - groups.rep.size();
     std::vector<float> uxyz(3 * groups.rep.size());
     for (std::size_t u = 0; u < groups.rep.size(); ++u)
       std::copy_n(&xyz[3 * std::size_t(groups.rep[u])], 3, &uxyz[3 * u]);
     flann::Matrix<float> udata(uxyz.data(), groups.rep.size(), 3);
+    std::vector<std::int32_t> order;  // the unique points in Morton order (their first members')
+    order.reserve(groups.rep.size());
+    for (const auto& [code, i] : codes)
+      if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
     std::size_t retries = 0;
     if (options.checks <= 0) {
-      flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeSingleIndexParams(10));
+      ExactTree index(udata, flann::KDTreeSingleIndexParams(10));
       index.buildIndex();
-      KnnGrouped(index, uxyz, groups, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
+      KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
     } else {
       flann::seed_random(12345);
       flann::KDTreeIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeIndexParams(4));
       index.buildIndex();
-      KnnGrouped(index, uxyz, groups, k, flann::SearchParams(options.checks, 0.0f, false), result, retries);
+      KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(options.checks, 0.0f, false), result, retries);
     }
     result.tie_retries = retries;
     result.seconds = timer.Seconds();
@@ -246,26 +300,27 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
   }
   // FLANN's Matrix takes a non-const pointer but the index does not write the data.
   flann::Matrix<float> data(const_cast<float*>(xyz.data()), n, 3);
-  const std::vector<std::int32_t> order = MortonOrder(xyz);
+  std::vector<std::int32_t> order(n);
+  for (std::size_t t = 0; t < n; ++t) order[t] = codes[t].second;
   std::size_t retries = 0;
   auto run = [&](const auto& index, const flann::SearchParams& params) {
     const auto nn = static_cast<std::int64_t>(n);
 #pragma omp parallel reduction(+ : retries)
     {
-      std::vector<Entry> out;
+      QueryScratch s;
 #pragma omp for schedule(dynamic, 1024)
       for (std::int64_t t = 0; t < nn; ++t) {
         const std::int32_t i = order[t];
-        Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, out, retries);
-        for (std::size_t c = 0; c < out.size(); ++c) {
-          result.neighbors[std::size_t(i) * k + c] = out[c].i;
-          result.sq_dist[std::size_t(i) * k + c] = out[c].d;
+        Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, s, retries);
+        for (std::size_t c = 0; c < s.out.size(); ++c) {
+          result.neighbors[std::size_t(i) * k + c] = s.out[c].i;
+          result.sq_dist[std::size_t(i) * k + c] = s.out[c].d;
         }
       }
     }
   };
   if (options.checks <= 0) {
-    flann::KDTreeSingleIndex<flann::L2_Simple<float>> index(data, flann::KDTreeSingleIndexParams(10));
+    ExactTree index(data, flann::KDTreeSingleIndexParams(10));
     index.buildIndex();
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
     run(index, params);
@@ -285,10 +340,9 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
 namespace {
 
 // FLANN's exact kd-tree over n points (the data must outlive it), built on construction.
-struct ExactIndex : flann::KDTreeSingleIndex<flann::L2_Simple<float>> {
+struct ExactIndex : ExactTree {
   ExactIndex(float* data, std::size_t n)
-      : flann::KDTreeSingleIndex<flann::L2_Simple<float>>(flann::Matrix<float>(data, n, 3),
-                                                          flann::KDTreeSingleIndexParams(10)) {
+      : ExactTree(flann::Matrix<float>(data, n, 3), flann::KDTreeSingleIndexParams(10)) {
     buildIndex();
   }
 };
@@ -333,7 +387,7 @@ void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t>
   const auto n_old = static_cast<std::int64_t>(new_of_old.size());
 #pragma omp parallel reduction(+ : retries)
   {
-    std::vector<Entry> out;
+    QueryScratch s;
 #pragma omp for schedule(dynamic, 4096)
     for (std::int64_t u = 0; u < n_old; ++u) {
       const std::size_t row = std::size_t(new_of_old[std::size_t(u)]);
@@ -342,9 +396,9 @@ void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t>
       float* sd = &r.sq_dist[row * k];
       // Rounding margin: FLANN's float distances against the box's double bound.
       if (nb[k - 1] >= 0 && BoxDistance(q, lo, hi) > double(sd[k - 1]) * (1.0 + 1e-5) + 1e-30) continue;
-      Query(index, q, -1, k, m, params, out, retries);
-      for (Entry& e : out) e.i = added[std::size_t(e.i)];
-      MergeInto(nb, sd, k, out);
+      Query(index, q, -1, k, m, params, s, retries);
+      for (Entry& e : s.out) e.i = added[std::size_t(e.i)];
+      MergeInto(nb, sd, k, s.out);
     }
   }
 }
@@ -379,14 +433,17 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
   const flann::SearchParams params = ExactSearch();
   // The added points' own lists (few: a list buffer per query costs nothing here).
   const auto m = static_cast<std::int64_t>(added.size());
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : retries)
-  for (std::int64_t t = 0; t < m; ++t) {
-    std::vector<Entry> out;
-    const std::int32_t i = added[std::size_t(t)];
-    Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, out, retries);
-    for (std::size_t c = 0; c < out.size(); ++c) {
-      r.neighbors[std::size_t(i) * k + c] = out[c].i;
-      r.sq_dist[std::size_t(i) * k + c] = out[c].d;
+#pragma omp parallel reduction(+ : retries)
+  {
+    QueryScratch s;
+#pragma omp for schedule(dynamic, 256)
+    for (std::int64_t t = 0; t < m; ++t) {
+      const std::int32_t i = added[std::size_t(t)];
+      Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, s, retries);
+      for (std::size_t c = 0; c < s.out.size(); ++c) {
+        r.neighbors[std::size_t(i) * k + c] = s.out[c].i;
+        r.sq_dist[std::size_t(i) * k + c] = s.out[c].d;
+      }
     }
   }
   r.tie_retries = before.tie_retries + retries;

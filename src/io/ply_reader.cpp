@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <bit>
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
@@ -154,8 +155,9 @@ Header ParseHeader(const char* data, std::size_t size, const std::string& path) 
 // Where one file property goes: base[i * stride] for Gaussian i.
 struct Target {
   std::size_t property = 0;
-  float* base = nullptr;
+  float* base = nullptr;          // nullptr: the value is only checked (non-finite -> flag[i] = 1)
   std::size_t stride = 0;
+  std::uint8_t* flag = nullptr;
 };
 
 // Parses "<prefix><decimal>" and returns the integer, or nullopt.
@@ -338,6 +340,11 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   DetectColumnGroups(by_name, options, path, scene);
   const auto rest = IndexedColumns(props, "f_rest_", path);
   scene.sh_degree = ShDegreeOf(rest.size(), path);
+  const bool check_rest_only = !options.sh_rest && !rest.empty();
+  if (check_rest_only) {
+    scene.sh_degree = 0;  // what the scene holds: f_dc
+    scene.nonfinite_undecoded.assign(static_cast<std::size_t>(vertex.count), 0);
+  }
   const std::size_t coeffs = static_cast<std::size_t>((scene.sh_degree + 1) * (scene.sh_degree + 1));
   const std::vector<std::size_t> feature_cols = FeatureColumns(props, options, path, scene);
   AllocateColumns(static_cast<std::size_t>(vertex.count), coeffs, feature_cols.size(), scene);
@@ -356,8 +363,10 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   const std::size_t sh_cols = coeffs * 3;
   for (int c = 0; c < 3; ++c)
     if (const auto p = FindProperty(by_name, "f_dc_" + std::to_string(c))) plan.push_back({*p, scene.sh.data() + c, sh_cols});
+  if (check_rest_only)
+    for (std::size_t j : rest) plan.push_back({j, nullptr, 0, scene.nonfinite_undecoded.data()});
   // f_rest_j is channel-major in the file: j = ch*(K-1) + (k-1)  ->  sh(i, k*3 + ch).
-  for (std::size_t j = 0; j < rest.size(); ++j) {
+  for (std::size_t j = 0; j < rest.size() && !check_rest_only; ++j) {
     const std::size_t ch = j / (coeffs - 1), k = j % (coeffs - 1) + 1;
     plan.push_back({rest[j], scene.sh.data() + k * 3 + ch, sh_cols});
   }
@@ -383,7 +392,13 @@ void DecodeBinary(const unsigned char* records, std::size_t n, std::size_t recor
     // Fast path (INRIA/plyfile layout): float32 in host order, plain loads.
     struct Flat { std::size_t offset; float* base; std::size_t stride; };
     std::vector<Flat> flat;
-    for (const auto& t : plan) flat.push_back({offsets[t.property], t.base, t.stride});
+    std::vector<std::size_t> checked;  // offsets of the values only checked for finiteness
+    for (const auto& t : plan)
+      if (t.base) flat.push_back({offsets[t.property], t.base, t.stride});
+      else checked.push_back(offsets[t.property]);
+    std::uint8_t* flag = nullptr;
+    for (const auto& t : plan)
+      if (!t.base) flag = t.flag;
     const Flat* f = flat.data();
     const std::size_t m = flat.size();
 #pragma omp parallel for schedule(static) if (n > 32768)
@@ -397,6 +412,11 @@ void DecodeBinary(const unsigned char* records, std::size_t n, std::size_t recor
           std::memcpy(&v, rec + f[q].offset, sizeof(float));
           f[q].base[i * f[q].stride] = v;
         }
+        for (const std::size_t offset : checked) {
+          float v;
+          std::memcpy(&v, rec + offset, sizeof(float));
+          if (!std::isfinite(v)) flag[i] = 1;
+        }
       }
     }
     return;
@@ -407,8 +427,11 @@ void DecodeBinary(const unsigned char* records, std::size_t n, std::size_t recor
     if (copy) std::memcpy(copy + begin * record_bytes, records + begin * record_bytes, (end - begin) * record_bytes);
     for (std::size_t i = begin; i < end; ++i) {
       const unsigned char* rec = (copy ? copy : records) + i * record_bytes;
-      for (const auto& t : plan)
-        t.base[i * t.stride] = LoadAsFloat(rec + offsets[t.property], types[t.property], swap);
+      for (const auto& t : plan) {
+        const float v = LoadAsFloat(rec + offsets[t.property], types[t.property], swap);
+        if (t.base) t.base[i * t.stride] = v;
+        else if (!std::isfinite(v)) t.flag[i] = 1;
+      }
     }
   }
 }
@@ -531,7 +554,9 @@ void ReadAsciiVertices(const char* data, std::size_t size, const Header& h, std:
       if (!ParseAsciiValue(tok[p], v))
         throw FileError(path, "non-numeric value '" + std::string(tok[p].substr(0, 32)) + "' for property '" +
                                   vertex.properties[p].name + "' of vertex " + std::to_string(i));
-      for (const Target* t : by_property[p]) t->base[i * t->stride] = v;
+      for (const Target* t : by_property[p])
+        if (t->base) t->base[i * t->stride] = v;
+        else if (!std::isfinite(v)) t->flag[i] = 1;
     }
     src.ascii_line_offsets.push_back(bytes->size());
     bytes->append(line);

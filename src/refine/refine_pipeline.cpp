@@ -190,7 +190,7 @@ RefineResult RefineIntoSet(const RefineOptions& o, OutputSet& set) {
   if (!o.export_problem_dir.empty()) OutputSet preflight(o.export_problem_dir, ExportSetOptions(o));
   const std::string solver_name = ResolveSolverName(o.solver);
   auto solver = MakeSolver(solver_name, o.solver_options);  // fails early on a bad name/options
-  const RefineInputs in = LoadRefineInputs(o, report);
+  const RefineInputs in = LoadRefineInputs(o, report, SceneColumns::kRefine);  // nothing here renders
   return RefineLoaded(in, o, *solver, solver_name, std::move(report), total, &set);
 }
 

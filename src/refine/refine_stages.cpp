@@ -333,7 +333,7 @@ std::string ResolveSolverName(const std::string& name) {
   return std::find(names.begin(), names.end(), "cp") != names.end() ? "cp" : "bk";
 }
 
-RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
+RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report, SceneColumns columns) {
   if (o.scene.empty()) throw Error("--scene is required", ExitCode::kUsage);
   const MethodPreset preset = MethodPresetFor(o.method);
   const bool derive_fgs = o.removed.empty() && !o.prompt_embeddings.empty();
@@ -349,6 +349,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report) {
   const bool feat_file = EndsWith(in.feature_spec, ".npy") || EndsWith(in.feature_spec, ".ply");
   PlyReadOptions ro;
   ro.feature_prefix = (in.feature_spec == "colour" || feat_file) ? "none" : in.feature_spec;
+  ro.sh_rest = columns == SceneColumns::kAll;
   Scene scene = ReadScene(o.scene, ro);
   AddInputFile(report, "scene", o.scene);
   LoadFeatures(o, scene, in, report);

@@ -271,6 +271,27 @@ TEST(Graph, ZeroNormFeaturesAndNonFiniteGaussians) {
   EXPECT_FALSE(r.warnings.empty());
 }
 
+// A row whose undecoded f_rest held a non-finite value (PlyReadOptions::sh_rest = false) is
+// excluded like one with a non-finite decoded value; the other rows' graph does not change.
+TEST(Graph, RowsFlaggedByTheReaderAreExcluded) {
+  auto g = al::test::MakeGraphScene(2000, 9);
+  const auto before = al::BuildRefineGraph(g.scene, g.features, g.removed, {});
+  std::vector<std::int64_t> flagged;
+  for (int i = 0; i < 2000 && flagged.size() < 4; ++i)
+    if (!g.removed[i] && std::binary_search(before.problem.node_ids.begin(), before.problem.node_ids.end(), i))
+      flagged.push_back(i);
+  ASSERT_EQ(flagged.size(), 4u);
+  g.scene.nonfinite_undecoded.assign(2000, 0);
+  for (auto id : flagged) g.scene.nonfinite_undecoded[std::size_t(id)] = 1;
+  const auto r = al::BuildRefineGraph(g.scene, g.features, g.removed, {});
+  EXPECT_EQ(r.stats.excluded_nonfinite, before.stats.excluded_nonfinite + flagged.size());
+  for (auto id : flagged) {
+    EXPECT_TRUE(r.excluded[std::size_t(id)]);
+    EXPECT_FALSE(std::binary_search(r.problem.node_ids.begin(), r.problem.node_ids.end(), id));
+  }
+  EXPECT_EQ(r.problem.node_ids.size(), before.problem.node_ids.size() - flagged.size());
+}
+
 TEST(Graph, DisconnectedEmptyAndCosineMode) {
   auto g = al::test::MakeGraphScene(1000, 9);
   // Two far-apart removed groups: at least two components.

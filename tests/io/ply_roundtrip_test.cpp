@@ -2,6 +2,7 @@
 // scalar type), plus write -> read round trips.
 #include <algorithm>
 #include <bit>
+#include <limits>
 #include <numeric>
 #include <cmath>
 #include <cstring>
@@ -321,6 +322,39 @@ TEST(PlyRoundTrip, FileBackedRecordsSurviveReplacementAndReportTruncation) {
   const auto out2 = dir / "out2.ply";
   EXPECT_THROW(WritePly(out2.string(), t), Error);
   EXPECT_FALSE(std::filesystem::exists(out2));
+}
+
+// Refine reads f_rest only to check it: the scene keeps f_dc (degree 0), flags the rows with a
+// non-finite f_rest value, and every other column and the finite mask equal a full read's.
+TEST(PlyRoundTrip, ShRestCheckedNotDecodedFlagsNonFiniteRowsAndKeepsTheRest) {
+  const auto dir = test::TempDir();
+  for (int rest : {0, 9, 45}) {
+    const auto cols = StandardCols(rest, 4);
+    auto rows = RandomRows(6, cols.size(), 20 + rest);
+    if (rest > 0) {
+      rows[1][9 + rest / 2] = std::nan("");                           // an f_rest value
+      rows[4][9 + rest - 1] = std::numeric_limits<double>::infinity();  // the last one
+    }
+    rows[3][9 + rest + 3] = std::nan("");  // a scale (decoded either way)
+    for (Fmt fmt : {Fmt::kLE, Fmt::kBE, Fmt::kAscii}) {
+      const auto path = WriteFile(dir / ("r" + std::to_string(rest) + "_" + std::to_string(int(fmt)) + ".ply"),
+                                  MakePly(fmt, cols, rows));
+      PlyReadOptions lean;
+      lean.sh_rest = false;
+      const Scene full = ReadPly(path), s = ReadPly(path, lean);
+      const std::string what = "rest " + std::to_string(rest) + " format " + std::to_string(int(fmt));
+      EXPECT_EQ(s.sh_degree, 0) << what;
+      ASSERT_EQ(s.sh.cols(), 3) << what;
+      EXPECT_TRUE(s.sh.leftCols(3) == full.sh.leftCols(3)) << what;
+      EXPECT_TRUE(s.means == full.means && s.rotations == full.rotations && s.features == full.features) << what;
+      EXPECT_EQ(s.log_scales.row(2), full.log_scales.row(2)) << what;
+      const std::vector<std::uint8_t> want =
+          rest > 0 ? std::vector<std::uint8_t>{0, 1, 0, 0, 1, 0} : std::vector<std::uint8_t>{};
+      EXPECT_EQ(s.nonfinite_undecoded, want) << what;
+      EXPECT_EQ(FiniteMask(s), FiniteMask(full)) << what;
+      EXPECT_EQ(CountNonFinite(s).gaussians_with_any, CountNonFinite(full).gaussians_with_any) << what;
+    }
+  }
 }
 
 }  // namespace

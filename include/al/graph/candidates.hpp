@@ -2,8 +2,9 @@
 // `hops` times (each hop grows from the Gaussians the previous hop added). Exact: equal to the
 // brute-force O(|R|·N) test with the predicate SpheresIntersect below. Near-linear: the growing set
 // goes into a kd-tree whose nodes carry their largest radius (branch and bound on
-// dist(μ_j, box) − max r); the largest spheres (more than 8× the median radius) live in a second
-// small tree so a few huge Gaussians do not weaken the pruning of the main one.
+// dist(μ_j, box) − max r); the largest spheres (more than 8× the median radius) live in small trees
+// of their own, one per factor-2 range of radius, so huge Gaussians do not weaken the pruning of
+// the main tree nor of each other. The trees are built in parallel tasks.
 #pragma once
 #include <cstdint>
 #include <span>

@@ -20,6 +20,10 @@ struct PlyReadOptions {
   bool require_render_columns = false;
   // Require scale_0..2 (false only for subset PLYs used for matching, which need just x y z).
   bool require_scales = true;
+  // Decode f_rest_* into Scene::sh. false (refine, which never renders): they are only checked,
+  // Scene::nonfinite_undecoded flags the rows with a non-finite one, and the scene holds f_dc
+  // alone (sh_degree 0) — at 3M Gaussians of SH degree 3 that is 540 MB fewer.
+  bool sh_rest = true;
 };
 
 // Reads a PLY (ascii, binary LE/BE, any scalar type, properties by name). Memory-mapped, one pass.

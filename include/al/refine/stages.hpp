@@ -53,10 +53,16 @@ struct RefineInputs {
   Eigen::Index borrowed_rows_ = 0, borrowed_dim_ = 0;
 };
 
+// Which scene columns LoadRefineInputs decodes: all (the evaluator renders the scene: sweeps and
+// --auto with cameras), or what refinement reads (f_rest only checked for finite values,
+// PlyReadOptions::sh_rest).
+enum class SceneColumns { kAll, kRefine };
+
 // Validates the options and loads scene, features, removed set and labels. Records input files,
 // warnings and per-stage seconds into report (a NewReport object). Throws al::Error before any
 // output is written.
-RefineInputs LoadRefineInputs(const RefineOptions& options, nlohmann::json& report);
+RefineInputs LoadRefineInputs(const RefineOptions& options, nlohmann::json& report,
+                              SceneColumns columns = SceneColumns::kAll);
 
 // The same from memory (RefineData, al/refine/refine.hpp): the scene is shared, the arrays are read
 // in place (float32 feature rows are borrowed, not copied); options.scene/removed/features/labels
