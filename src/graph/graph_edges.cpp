@@ -34,31 +34,21 @@ PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
   const int K = knn.k;
   PairCache pc{std::vector<std::int64_t>(V + 1, 0), {}, {}};
   std::vector<std::int64_t> start(V + 1, 0);
-  const auto vv = static_cast<std::int64_t>(V);
-  // Each pair goes to its smaller node's row; rows are sorted afterwards, so the order in which
-  // the threads fill a row does not matter.
-#pragma omp parallel for schedule(static)
-  for (std::int64_t u = 0; u < vv; ++u)
+  for (std::size_t u = 0; u < V; ++u)
     for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[std::size_t(u) * K + c];
-      if (v < 0) continue;
-#pragma omp atomic
-      ++start[std::size_t(std::min<std::int64_t>(u, v)) + 1];
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) ++start[std::min<std::size_t>(u, v) + 1];
     }
   for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
   std::vector<std::int32_t> all(std::size_t(start[V]));
   std::vector<std::int64_t> cur(start.begin(), start.end() - 1);
-#pragma omp parallel for schedule(static)
-  for (std::int64_t u = 0; u < vv; ++u)
+  for (std::size_t u = 0; u < V; ++u)
     for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[std::size_t(u) * K + c];
-      if (v < 0) continue;
-      std::int64_t at;
-#pragma omp atomic capture
-      at = cur[std::size_t(std::min<std::int64_t>(u, v))]++;
-      all[std::size_t(at)] = std::int32_t(std::max<std::int64_t>(u, v));
+      const std::int32_t v = knn.neighbors[u * K + c];
+      if (v >= 0) all[std::size_t(cur[std::min<std::size_t>(u, v)]++)] = std::int32_t(std::max<std::size_t>(u, v));
     }
   std::vector<std::int64_t> count(V, 0);
+  const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(dynamic, 2048)
   for (std::int64_t u = 0; u < vv; ++u) {
     auto* b = all.data() + start[u];

@@ -76,6 +76,99 @@ constexpr std::size_t kTieSlack = 1;
 
 bool EntryLess(const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); }
 
+// Squared distance from p to the box [lo, hi] (a lower bound of its distance to any point inside).
+double BoxDistance(const float* p, const float* lo, const float* hi) {
+  double s = 0;
+  for (int a = 0; a < 3; ++a) {
+    const double g = p[a] < lo[a] ? double(lo[a]) - p[a] : (p[a] > hi[a] ? double(p[a]) - hi[a] : 0.0);
+    s += g * g;
+  }
+  return s;
+}
+
+// A result set that stores a part's local indices as the whole set's.
+class MappedResults : public flann::ResultSet<float> {
+ public:
+  MappedResults(flann::ResultSet<float>& to, const std::int32_t* ids) : to_(to), ids_(ids) {}
+  bool full() const override { return to_.full(); }
+  void addPoint(float dist, std::size_t index) override { to_.addPoint(dist, std::size_t(ids_[index])); }
+  float worstDist() const override { return to_.worstDist(); }
+
+ private:
+  flann::ResultSet<float>& to_;
+  const std::int32_t* ids_;
+};
+
+// FLANN's exact tree over each half of a point set (split at the median of its longest axis), the
+// halves built at the same time (FLANN builds a tree on one thread: a fifth of the kNN stage at
+// 600k points). A query searches the half whose box is nearer, then the other one unless its box
+// is farther than the k-th found (FLANN's float distances against the box's double bound, with a
+// rounding margin), into one result set: the neighbours of one tree over all points.
+class ExactForest {
+ public:
+  // xyz must outlive the forest.
+  explicit ExactForest(std::span<const float> xyz) {
+    const std::size_t n = xyz.size() / 3, halves = n >= kSplitFrom ? 2 : 1;
+    std::vector<std::int32_t> ids(n);
+    for (std::size_t i = 0; i < n; ++i) ids[i] = std::int32_t(i);
+    if (halves > 1) SplitAtMedian(xyz, ids);
+#pragma omp parallel for schedule(static, 1) if (halves > 1)
+    for (std::size_t h = 0; h < halves; ++h) {
+      Part& part = parts_[h];
+      part.ids.assign(ids.begin() + std::ptrdiff_t(h * n / halves), ids.begin() + std::ptrdiff_t((h + 1) * n / halves));
+      part.pts.resize(3 * part.ids.size());
+      for (int a = 0; a < 3; ++a) part.lo[a] = std::numeric_limits<float>::infinity(), part.hi[a] = -part.lo[a];
+      for (std::size_t t = 0; t < part.ids.size(); ++t)
+        for (int a = 0; a < 3; ++a) {
+          const float x = xyz[3 * std::size_t(part.ids[t]) + std::size_t(a)];
+          part.pts[3 * t + std::size_t(a)] = x;
+          part.lo[a] = std::min(part.lo[a], x), part.hi[a] = std::max(part.hi[a], x);
+        }
+      if (part.ids.empty()) continue;
+      part.tree = std::make_unique<ExactTree>(flann::Matrix<float>(part.pts.data(), part.ids.size(), 3),
+                                              flann::KDTreeSingleIndexParams(10));
+      part.tree->buildIndex();
+    }
+  }
+
+  void findNeighbors(flann::ResultSet<float>& rs, const float* q, const flann::SearchParams& params) const {
+    double box[2];
+    for (int h = 0; h < 2; ++h)
+      box[h] = parts_[h].tree ? BoxDistance(q, parts_[h].lo, parts_[h].hi) : std::numeric_limits<double>::infinity();
+    const int first = box[1] < box[0] ? 1 : 0;
+    for (const int h : {first, 1 - first}) {
+      if (!parts_[h].tree) continue;
+      if (h != first && box[h] > double(rs.worstDist()) * (1.0 + 1e-5) + 1e-30) continue;
+      MappedResults mapped(rs, parts_[h].ids.data());
+      parts_[h].tree->findNeighbors(mapped, q, params);
+    }
+  }
+
+ private:
+  static constexpr std::size_t kSplitFrom = 65536;  // smaller sets: one tree
+  // ids[0, n/2) below the median of the longest axis of the box, the rest above (ties by index).
+  static void SplitAtMedian(std::span<const float> xyz, std::vector<std::int32_t>& ids) {
+    float lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<float>::infinity(), hi[a] = -lo[a];
+    for (std::size_t i = 0; i < ids.size(); ++i)
+      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], xyz[3 * i + a]), hi[a] = std::max(hi[a], xyz[3 * i + a]);
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (double(hi[a]) - lo[a] > double(hi[axis]) - lo[axis]) axis = a;
+    std::nth_element(ids.begin(), ids.begin() + std::ptrdiff_t(ids.size() / 2), ids.end(), [&](std::int32_t x, std::int32_t y) {
+      const float vx = xyz[3 * std::size_t(x) + axis], vy = xyz[3 * std::size_t(y) + axis];
+      return vx < vy || (vx == vy && x < y);
+    });
+  }
+  struct Part {
+    std::vector<std::int32_t> ids;
+    std::vector<float> pts;
+    float lo[3], hi[3];
+    std::unique_ptr<ExactTree> tree;
+  };
+  std::array<Part, 2> parts_;
+};
+
 // One thread's buffers for its queries: a result set and two lists per query cost as much in
 // allocations as a 3-D search.
 struct QueryScratch {
@@ -285,8 +378,7 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
       if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
     std::size_t retries = 0;
     if (options.checks <= 0) {
-      ExactTree index(udata, flann::KDTreeSingleIndexParams(10));
-      index.buildIndex();
+      const ExactForest index(uxyz);
       KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
     } else {
       flann::seed_random(12345);
@@ -320,8 +412,7 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
     }
   };
   if (options.checks <= 0) {
-    ExactTree index(data, flann::KDTreeSingleIndexParams(10));
-    index.buildIndex();
+    const ExactForest index(xyz);
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
     run(index, params);
   } else {
@@ -357,16 +448,6 @@ void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<Entry>& extra) {
     nb[c] = c < int(extra.size()) ? extra[std::size_t(c)].i : -1;
     sd[c] = c < int(extra.size()) ? extra[std::size_t(c)].d : 0.0f;
   }
-}
-
-// Squared distance from p to the box [lo, hi] (a lower bound of its distance to any point inside).
-double BoxDistance(const float* p, const float* lo, const float* hi) {
-  double s = 0;
-  for (int a = 0; a < 3; ++a) {
-    const double g = p[a] < lo[a] ? double(lo[a]) - p[a] : (p[a] > hi[a] ? double(p[a]) - hi[a] : 0.0);
-    s += g * g;
-  }
-  return s;
 }
 
 // The old points' lists: a point whose k-th neighbour is farther than some added point takes it in.
@@ -429,7 +510,7 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
     }
   std::size_t retries = 0;
   AddedIntoOldLists(xyz, new_of_old, added, r, retries);
-  const ExactIndex index(const_cast<float*>(xyz.data()), n);
+  const ExactForest index(xyz);
   const flann::SearchParams params = ExactSearch();
   // The added points' own lists (few: a list buffer per query costs nothing here).
   const auto m = static_cast<std::int64_t>(added.size());

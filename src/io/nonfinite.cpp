@@ -14,7 +14,8 @@ std::size_t RowNonFinite(const M& m, Eigen::Index i) {
   return bad;
 }
 
-// 1 when row i has a non-finite value in a column the reader checked but did not decode (f_rest).
+// 1 when row i has a non-finite value in a column the reader checked but did not decode (f_rest,
+// rotations; counted with the SH).
 std::size_t Undecoded(const Scene& scene, Eigen::Index i) {
   return scene.nonfinite_undecoded.size() > std::size_t(i) && scene.nonfinite_undecoded[std::size_t(i)] ? 1 : 0;
 }

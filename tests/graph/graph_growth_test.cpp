@@ -99,11 +99,13 @@ TEST(GraphGrowth, NoFreshSeedHopsAndThreads) {
 }
 
 // Points on a small integer grid (many equal distances) with duplicates, grown in steps.
+// n = 3000 searches one tree, n = 70000 two (KnnAmongPoints splits sets above 65,536 points).
 TEST(KnnWithAddedPoints, EqualsAFreshSearchWithTiesAndDuplicates) {
+  for (const int n : {3000, 70000}) {
   std::mt19937 rng(5);
-  std::uniform_int_distribution<int> cell(0, 12);
+  std::uniform_int_distribution<int> cell(0, n > 3000 ? 40 : 12);
   std::vector<float> xyz;
-  for (int i = 0; i < 3000; ++i)
+  for (int i = 0; i < n; ++i)
     for (int a = 0; a < 3; ++a) xyz.push_back(float(cell(rng)) * (a == 2 ? 1e-6f : 1.0f));
   for (int k : {1, 4, 10}) {
     al::KnnOptions ko;
@@ -112,7 +114,7 @@ TEST(KnnWithAddedPoints, EqualsAFreshSearchWithTiesAndDuplicates) {
     for (int mod : {7, 3}) {
       std::vector<float> old_xyz;
       std::vector<std::int32_t> new_of_old, added;
-      for (int i = 0; i < 3000; ++i) {
+      for (int i = 0; i < n; ++i) {
         if (i % mod == 0) { added.push_back(i); continue; }
         new_of_old.push_back(i);
         old_xyz.insert(old_xyz.end(), xyz.begin() + 3 * i, xyz.begin() + 3 * i + 3);
@@ -124,6 +126,7 @@ TEST(KnnWithAddedPoints, EqualsAFreshSearchWithTiesAndDuplicates) {
       EXPECT_EQ(after.neighbors, fresh.neighbors) << "k " << k << " mod " << mod;
       EXPECT_EQ(after.sq_dist, fresh.sq_dist);
     }
+  }
   }
 }
 

@@ -47,6 +47,28 @@ TEST(Knn, CoincidentGroupsGiveTheBruteForceAnswer) {
   }
 }
 
+// Above 65,536 points the exact search runs on two trees (the halves at the median of the longest
+// axis, built in parallel): points on a grid, many on the splitting plane and at equal distances,
+// with and without coincident piles, give the brute-force answer.
+TEST(Knn, TwoHalfTreesGiveTheBruteForceAnswer) {
+  for (const bool piles : {false, true}) {
+    std::mt19937 rng(11);
+    std::uniform_int_distribution<int> cell(0, 60);
+    std::vector<float> xyz;
+    for (int i = 0; i < 90000; ++i) {  // piles: random cells (some shared); else a lattice (all distinct)
+      const int lattice[3] = {i % 45, (i / 45) % 45, i / 2025};
+      for (int a = 0; a < 3; ++a) xyz.push_back(piles ? float(cell(rng)) : float(lattice[a]));
+    }
+    const KnnResult r = KnnAmongPoints(xyz, {6, 0});
+    EXPECT_EQ(r.coincident > 0, piles);
+    for (std::size_t i = 0; i < 90000; i += 997) {
+      const auto expect = BruteForce(xyz, i, 6);
+      ASSERT_EQ(std::vector<std::int32_t>(r.neighbors.begin() + i * 6, r.neighbors.begin() + i * 6 + 6), expect)
+          << "point " << i << (piles ? " (piles)" : "");
+    }
+  }
+}
+
 TEST(Knn, OneHundredThousandCoincidentPoints) {
   // Time is checked by cli.reliability_degenerate (100k coincident Gaussians refined in < 5 s).
   std::vector<float> xyz(3 * 100000, 0.5f);

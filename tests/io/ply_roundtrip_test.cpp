@@ -324,9 +324,10 @@ TEST(PlyRoundTrip, FileBackedRecordsSurviveReplacementAndReportTruncation) {
   EXPECT_FALSE(std::filesystem::exists(out2));
 }
 
-// Refine reads f_rest only to check it: the scene keeps f_dc (degree 0), flags the rows with a
-// non-finite f_rest value, and every other column and the finite mask equal a full read's.
-TEST(PlyRoundTrip, ShRestCheckedNotDecodedFlagsNonFiniteRowsAndKeepsTheRest) {
+// Refine reads f_rest and the rotations only to check them: the scene keeps f_dc (degree 0) and no
+// rotations, flags the rows with a non-finite value there, and every other column and the finite
+// mask equal a full read's.
+TEST(PlyRoundTrip, ShRestAndRotationsCheckedNotDecodedFlagNonFiniteRowsAndKeepTheRest) {
   const auto dir = test::TempDir();
   for (int rest : {0, 9, 45}) {
     const auto cols = StandardCols(rest, 4);
@@ -336,20 +337,24 @@ TEST(PlyRoundTrip, ShRestCheckedNotDecodedFlagsNonFiniteRowsAndKeepsTheRest) {
       rows[4][9 + rest - 1] = std::numeric_limits<double>::infinity();  // the last one
     }
     rows[3][9 + rest + 3] = std::nan("");  // a scale (decoded either way)
+    rows[5][13 + rest + 2] = std::nan("");  // rot_2
     for (Fmt fmt : {Fmt::kLE, Fmt::kBE, Fmt::kAscii}) {
       const auto path = WriteFile(dir / ("r" + std::to_string(rest) + "_" + std::to_string(int(fmt)) + ".ply"),
                                   MakePly(fmt, cols, rows));
       PlyReadOptions lean;
       lean.sh_rest = false;
+      lean.rotations = false;
       const Scene full = ReadPly(path), s = ReadPly(path, lean);
       const std::string what = "rest " + std::to_string(rest) + " format " + std::to_string(int(fmt));
       EXPECT_EQ(s.sh_degree, 0) << what;
       ASSERT_EQ(s.sh.cols(), 3) << what;
       EXPECT_TRUE(s.sh.leftCols(3) == full.sh.leftCols(3)) << what;
-      EXPECT_TRUE(s.means == full.means && s.rotations == full.rotations && s.features == full.features) << what;
+      EXPECT_TRUE(s.means == full.means && s.features == full.features) << what;
+      EXPECT_EQ(s.rotations.rows(), 0) << what;
+      EXPECT_TRUE(s.has_rotations) << what;
       EXPECT_EQ(s.log_scales.row(2), full.log_scales.row(2)) << what;
       const std::vector<std::uint8_t> want =
-          rest > 0 ? std::vector<std::uint8_t>{0, 1, 0, 0, 1, 0} : std::vector<std::uint8_t>{};
+          rest > 0 ? std::vector<std::uint8_t>{0, 1, 0, 0, 1, 1} : std::vector<std::uint8_t>{0, 0, 0, 0, 0, 1};
       EXPECT_EQ(s.nonfinite_undecoded, want) << what;
       EXPECT_EQ(FiniteMask(s), FiniteMask(full)) << what;
       EXPECT_EQ(CountNonFinite(s).gaussians_with_any, CountNonFinite(full).gaussians_with_any) << what;

@@ -24,6 +24,9 @@ struct PlyReadOptions {
   // Scene::nonfinite_undecoded flags the rows with a non-finite one, and the scene holds f_dc
   // alone (sh_degree 0) — at 3M Gaussians of SH degree 3 that is 540 MB fewer.
   bool sh_rest = true;
+  // Decode rot_* into Scene::rotations. false: checked the same way, the scene's rotations stay
+  // empty (has_rotations still says the file has them).
+  bool rotations = true;
 };
 
 // Reads a PLY (ascii, binary LE/BE, any scalar type, properties by name). Memory-mapped, one pass.

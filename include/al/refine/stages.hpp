@@ -54,8 +54,8 @@ struct RefineInputs {
 };
 
 // Which scene columns LoadRefineInputs decodes: all (the evaluator renders the scene: sweeps and
-// --auto with cameras), or what refinement reads (f_rest only checked for finite values,
-// PlyReadOptions::sh_rest).
+// --auto with cameras), or what refinement reads (f_rest, and rotations unless a subset PLY is
+// matched, only checked for finite values: PlyReadOptions::sh_rest, rotations).
 enum class SceneColumns { kAll, kRefine };
 
 // Validates the options and loads scene, features, removed set and labels. Records input files,

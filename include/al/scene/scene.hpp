@@ -60,8 +60,8 @@ struct Scene {
   // Which standard columns the file had (a subset PLY may lack some; matching uses only these).
   bool has_opacity = false, has_scales = false, has_rotations = false, has_f_dc = false;
 
-  // Rows with a non-finite value in a column read but not decoded (PlyReadOptions::sh_rest =
-  // false); empty when every column was decoded. Such rows are excluded like any non-finite one.
+  // Rows with a non-finite value in a column read but not decoded (PlyReadOptions::sh_rest,
+  // rotations = false); empty when every column was decoded. Such rows are excluded like any non-finite one.
   std::vector<std::uint8_t> nonfinite_undecoded;
 
   std::string source_path;
