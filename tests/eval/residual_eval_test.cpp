@@ -58,16 +58,21 @@ Camera Cam(const std::string& name, double z) {
   return c;
 }
 
+// The grey-blue wall at z = 10 behind every plate (label 0), in a degree-0 scene.
+void AddWall(PlateScene& s) {
+  s.scene.sh_degree = 0;
+  s.scene.has_opacity = s.scene.has_scales = s.scene.has_rotations = s.scene.has_f_dc = true;
+  for (int iy = 0; iy <= 60; ++iy)
+    for (int ix = 0; ix <= 80; ++ix)
+      AddGaussian(s, {-8.f + 0.2f * ix, -6.f + 0.2f * iy, 10.f}, 0.15f, {0.3f, 0.5f, 0.7f}, 0);
+}
+
 // Wall at z = 10 (grey-blue), a red plate x, y in [-1, 1] at z = 5 facing the cameras; "near" sees
 // the plate over ~85 px, "far" (190 units back) over ~2 px: too few footprint pixels to score.
 const PlateScene& Plate() {
   static const PlateScene p = [] {
     PlateScene s;
-    s.scene.sh_degree = 0;
-    s.scene.has_opacity = s.scene.has_scales = s.scene.has_rotations = s.scene.has_f_dc = true;
-    for (int iy = 0; iy <= 60; ++iy)
-      for (int ix = 0; ix <= 80; ++ix)
-        AddGaussian(s, {-8.f + 0.2f * ix, -6.f + 0.2f * iy, 10.f}, 0.15f, {0.3f, 0.5f, 0.7f}, 0);
+    AddWall(s);
     for (int iy = 0; iy <= 40; ++iy)
       for (int ix = 0; ix <= 40; ++ix)
         AddGaussian(s, {-1.f + 0.05f * ix, -1.f + 0.05f * iy, 5.f}, 0.04f, {0.9f, 0.15f, 0.1f}, 1);
@@ -81,11 +86,7 @@ const PlateScene& Plate() {
 // plate never reaches the object mask's share of 0.5, yet changes the image.
 PlateScene TranslucentPlate(float logit) {
   PlateScene s;
-  s.scene.sh_degree = 0;
-  s.scene.has_opacity = s.scene.has_scales = s.scene.has_rotations = s.scene.has_f_dc = true;
-  for (int iy = 0; iy <= 60; ++iy)
-    for (int ix = 0; ix <= 80; ++ix)
-      AddGaussian(s, {-8.f + 0.2f * ix, -6.f + 0.2f * iy, 10.f}, 0.15f, {0.3f, 0.5f, 0.7f}, 0);
+  AddWall(s);
   for (int iy = 0; iy <= 10; ++iy)
     for (int ix = 0; ix <= 10; ++ix)
       AddGaussian(s, {-1.f + 0.2f * ix, -1.f + 0.2f * iy, 5.f}, 0.06f, {0.95f, 0.1f, 0.05f}, 1, logit);
