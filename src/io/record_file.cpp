@@ -34,24 +34,4 @@ void RecordFile::Read(std::uint64_t begin, std::uint64_t length, char* out) cons
   }
 }
 
-bool RecordFile::CopyTo(int out_fd, std::uint64_t begin, std::uint64_t length) const {
-  if (begin > bytes_ || length > bytes_ - begin)
-    throw FileError(path_, "record range past the end of the vertex data");
-  auto in_offset = static_cast<off_t>(offset_ + begin);
-  std::uint64_t done = 0;
-  while (done < length) {
-    const ssize_t got = ::copy_file_range(fd_, &in_offset, out_fd, nullptr, length - done, 0);
-    if (got < 0 && errno == EINTR) continue;
-    // Not supported here (old kernel, file systems that refuse, special files): nothing is
-    // written yet on the first call, so the caller can copy through memory instead.
-    if (got < 0 && done == 0 && (errno == ENOSYS || errno == EXDEV || errno == EINVAL || errno == EOPNOTSUPP))
-      return false;
-    if (got <= 0)
-      throw FileError(path_, got == 0 ? "file shrank after it was loaded (vertex records missing)"
-                                      : std::string("copying records failed: ") + std::strerror(errno));
-    done += static_cast<std::uint64_t>(got);
-  }
-  return true;
-}
-
 }  // namespace al

@@ -23,12 +23,6 @@ class RecordFile {
   // Copies [begin, begin + length) of the range into out. Throws al::FileError on a short read.
   void Read(std::uint64_t begin, std::uint64_t length, char* out) const;
 
-  // Appends [begin, begin + length) of the range to the open file out_fd at its current offset,
-  // copied inside the kernel (copy_file_range: no pass through user memory). Returns false, having
-  // written nothing, where the kernel or the file systems cannot do that (the caller then uses
-  // Read); throws al::FileError on a short source or a failed write.
-  bool CopyTo(int out_fd, std::uint64_t begin, std::uint64_t length) const;
-
  private:
   std::string path_;
   int fd_ = -1;
