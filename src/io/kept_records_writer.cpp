@@ -6,12 +6,11 @@
 #include <algorithm>
 #include <cerrno>
 #include <chrono>
-#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <exception>
-#include <limits>
 #include <memory>
+#include <mutex>
 
 #include "al/core/error.hpp"
 
@@ -43,6 +42,62 @@ AlignedBuffer NewBuffer(std::size_t bytes) {
 
 double Now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
+// pwrite of len bytes at `at`; false (errno set) on failure.
+bool WriteAt(int fd, const char* buf, std::size_t len, std::uint64_t at) {
+  std::size_t done = 0;
+  while (done < len) {
+    const ssize_t got = ::pwrite(fd, buf + done, len - done, static_cast<off_t>(at + done));
+    if (got < 0 && errno == EINTR) continue;
+    if (got <= 0) return false;
+    done += std::size_t(got);
+  }
+  return true;
+}
+
+// A second open file description of the same file, with O_DIRECT (-1 where refused). Opened
+// through /proc/self/fd: the file already open, never a path another user could swap.
+int DirectDescriptor(int fd) {
+  const std::string self = "/proc/self/fd/" + std::to_string(fd);
+  return ::open(self.c_str(), O_WRONLY | O_DIRECT | O_CLOEXEC);
+}
+
+// Which way each chunk is written. Buffered writes are fast while the kernel has warm pages and
+// slow once it must take fresh ones (their speed changes during one file), so both ways keep a
+// moving average of seconds per byte; the faster is used, the other retried every 16th chunk.
+class WayChooser {
+ public:
+  WayChooser(RecordWriteMode mode, bool direct_possible) : mode_(mode), direct_possible_(direct_possible) {}
+  bool Direct() {
+    std::lock_guard<std::mutex> lock(mu_);
+    if (!direct_possible_ || mode_ == RecordWriteMode::kBuffered) return false;
+    if (mode_ == RecordWriteMode::kDirect) return true;
+    for (int w = 0; w < 2; ++w)
+      if (count_[w] == 0) return w == 1;
+    const bool better_direct = per_byte_[1] < per_byte_[0];
+    return ++calls_ % 16 == 0 ? !better_direct : better_direct;
+  }
+  void Record(bool direct, double seconds, std::size_t bytes) {
+    std::lock_guard<std::mutex> lock(mu_);
+    const double x = seconds / double(std::max<std::size_t>(bytes, 1));
+    double& e = per_byte_[direct];
+    e = count_[direct]++ == 0 ? x : 0.7 * e + 0.3 * x;
+    bytes_direct_ += direct ? bytes : 0;
+  }
+  void DirectRefused() {
+    std::lock_guard<std::mutex> lock(mu_);
+    direct_possible_ = false;
+  }
+  std::uint64_t bytes_direct() const { return bytes_direct_; }
+
+ private:
+  std::mutex mu_;
+  RecordWriteMode mode_;
+  bool direct_possible_;
+  double per_byte_[2] = {0, 0};
+  std::size_t count_[2] = {0, 0}, calls_ = 0;
+  std::uint64_t bytes_direct_ = 0;
+};
+
 class ChunkWriter {
  public:
   ChunkWriter(int fd, const std::string& path, const std::string& header, const RecordFile& source,
@@ -54,9 +109,8 @@ class ChunkWriter {
   std::uint64_t total() const { return total_; }
   std::size_t chunks() const { return std::size_t((total_ + chunk_ - 1) / chunk_); }
 
-  // Chunk c's bytes into buf (chunk_ bytes, aligned); returns how many to write (rounded up to the
-  // alignment, zero-padded, when direct: the file's size is set exactly afterwards).
-  std::size_t Fill(std::size_t c, char* buf, bool direct) const {
+  // Chunk c's bytes into buf (chunk_ bytes, aligned); returns their count.
+  std::size_t Fill(std::size_t c, char* buf) const {
     const std::uint64_t lo = std::uint64_t(c) * chunk_, hi = std::min<std::uint64_t>(lo + chunk_, total_);
     if (lo < header_.size()) std::memcpy(buf, header_.data() + lo, std::min<std::uint64_t>(hi, header_.size()) - lo);
     auto it = std::upper_bound(runs_.begin(), runs_.end(), lo,
@@ -65,50 +119,26 @@ class ChunkWriter {
       const std::uint64_t a = std::max(lo, it->out), b = std::min(hi, it->out + it->bytes);
       source_.Read(it->src + (a - it->out), b - a, buf + (a - lo));
     }
-    std::size_t len = std::size_t(hi - lo);
-    if (!direct) return len;
-    const std::size_t padded = (len + kDirectAlignment - 1) / kDirectAlignment * kDirectAlignment;
-    std::memset(buf + len, 0, padded - len);
-    return padded;
+    return std::size_t(hi - lo);
   }
 
-  // pwrite of a whole chunk; false (errno set) on failure.
-  bool Write(std::size_t c, const char* buf, std::size_t len) const {
-    std::uint64_t done = 0, at = std::uint64_t(c) * chunk_;
-    while (done < len) {
-      const ssize_t got = ::pwrite(fd_, buf + done, len - done, static_cast<off_t>(at + done));
-      if (got < 0 && errno == EINTR) continue;
-      if (got <= 0) return false;
-      done += std::uint64_t(got);
+  // Chunk c, through direct_fd where the chooser says so (only whole aligned chunks can be).
+  void WriteChunk(std::size_t c, char* buf, int direct_fd, WayChooser& way) const {
+    const std::size_t len = Fill(c, buf);
+    const bool direct = direct_fd >= 0 && len % kDirectAlignment == 0 && way.Direct();
+    const double t = Now();
+    if (WriteAt(direct ? direct_fd : fd_, buf, len, std::uint64_t(c) * chunk_)) {
+      way.Record(direct, Now() - t, len);
+      return;
     }
-    return true;
+    if (!direct || errno != EINVAL) Fail();
+    way.DirectRefused();  // the file system takes no O_DIRECT here after all
+    if (!WriteAt(fd_, buf, len, std::uint64_t(c) * chunk_)) Fail();
   }
 
   [[noreturn]] void Fail() const { throw FileError(path_, std::string("write failed: ") + std::strerror(errno)); }
 
-  bool SetDirect(bool on) const {
-    const int flags = ::fcntl(fd_, F_GETFL);
-    return flags >= 0 && ::fcntl(fd_, F_SETFL, on ? (flags | O_DIRECT) : (flags & ~O_DIRECT)) == 0;
-  }
-
-  // Writes chunks [first, first + count) one after another; the seconds spent writing (not filling),
-  // or infinity when direct I/O was refused (those chunks then written buffered).
-  double TimeChunks(std::size_t first, std::size_t count, bool direct, char* buf) const {
-    if (direct && !SetDirect(true)) direct = false;
-    double seconds = 0;
-    for (std::size_t c = first; c < first + count; ++c) {
-      const std::size_t len = Fill(c, buf, direct);
-      const double t = Now();
-      if (Write(c, buf, len)) { seconds += Now() - t; continue; }
-      if (!direct || errno != EINVAL || !SetDirect(false)) Fail();
-      direct = false;  // the file system refuses O_DIRECT here: this chunk and the rest buffered
-      seconds = std::numeric_limits<double>::infinity();
-      if (!Write(c, buf, Fill(c, buf, false))) Fail();
-    }
-    return seconds;
-  }
-
-  void WriteAll(std::size_t first, bool direct) const;
+  void WriteAll(int direct_fd, WayChooser& way) const;
 
  private:
   int fd_;
@@ -120,17 +150,17 @@ class ChunkWriter {
   std::uint64_t total_ = 0;
 };
 
-// Chunks [first, end) shared between the threads, each with its own buffer.
-void ChunkWriter::WriteAll(std::size_t first, bool direct) const {
+// The chunks shared between the threads, each with its own buffer.
+void ChunkWriter::WriteAll(int direct_fd, WayChooser& way) const {
   const auto end = static_cast<std::int64_t>(chunks());
   std::exception_ptr error;
 #pragma omp parallel
   {
     AlignedBuffer buf = NewBuffer(chunk_);
 #pragma omp for schedule(dynamic, 1)
-    for (auto c = static_cast<std::int64_t>(first); c < end; ++c) {
+    for (std::int64_t c = 0; c < end; ++c) {
       try {
-        if (!Write(std::size_t(c), buf.get(), Fill(std::size_t(c), buf.get(), direct))) Fail();
+        WriteChunk(std::size_t(c), buf.get(), direct_fd, way);
       } catch (...) {
 #pragma omp critical(al_kept_records_error)
         if (!error) error = std::current_exception();
@@ -149,24 +179,19 @@ KeptRecordsSummary WriteKeptRecords(int out_fd, const std::string& out_path, con
       std::uint64_t(keep.size()) * record_bytes > source.size())
     throw FileError(out_path, "kept-records writer: bad chunk size or record layout");
   const ChunkWriter writer(out_fd, out_path, header, source, record_bytes, keep, options.chunk_bytes);
-  std::size_t next = 0;
-  bool direct = options.mode == RecordWriteMode::kDirect;
-  const std::size_t probe = std::max<std::size_t>(options.probe_chunks, 1);
-  const bool probing = options.mode == RecordWriteMode::kProbe && writer.total() >= options.probe_min_bytes &&
-                       writer.chunks() > 2 * probe;
-  if (probing || direct) {
-    AlignedBuffer buf = NewBuffer(options.chunk_bytes);
-    const double buffered = probing ? writer.TimeChunks(0, probe, false, buf.get()) : 0.0;
-    next = probing ? probe : 0;
-    const std::size_t count = std::min(probe, writer.chunks() - next);
-    const double through = writer.TimeChunks(next, count, true, buf.get());
-    direct = std::isfinite(through) && (!probing || through < buffered);
-    next += count;
+  const bool may_direct = options.mode == RecordWriteMode::kDirect ||
+                          (options.mode == RecordWriteMode::kAdaptive && writer.total() >= options.adaptive_min_bytes);
+  const int direct_fd = may_direct ? DirectDescriptor(out_fd) : -1;
+  WayChooser way(options.mode, direct_fd >= 0);
+  try {
+    writer.WriteAll(direct_fd, way);
+  } catch (...) {
+    if (direct_fd >= 0) ::close(direct_fd);
+    throw;
   }
-  if (!writer.SetDirect(direct)) direct = false;
-  writer.WriteAll(next, direct);
-  if (!writer.SetDirect(false) || ::ftruncate(out_fd, static_cast<off_t>(writer.total())) != 0) writer.Fail();
-  return {writer.total(), direct};
+  if (direct_fd >= 0) ::close(direct_fd);
+  if (::ftruncate(out_fd, static_cast<off_t>(writer.total())) != 0) writer.Fail();
+  return {writer.total(), way.bytes_direct()};
 }
 
 }  // namespace al

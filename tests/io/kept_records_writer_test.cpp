@@ -90,19 +90,23 @@ TEST(KeptRecordsWriter, EveryModeWritesTheKeptRecordsInOrder) {
   const Source src = MakeSource(dir, n);
   const bool direct_works = DirectIoWorks(dir);
   const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 7\n" + std::string(4100, 'h');
-  for (RecordWriteMode mode : {RecordWriteMode::kBuffered, RecordWriteMode::kDirect, RecordWriteMode::kProbe})
+  for (RecordWriteMode mode : {RecordWriteMode::kBuffered, RecordWriteMode::kDirect, RecordWriteMode::kAdaptive})
     for (std::size_t chunk : {std::size_t{4096}, std::size_t{3 * 4096}})
       for (const std::vector<bool>& keep : Masks(n)) {
         KeptRecordsOptions o;
-        o.mode = mode, o.chunk_bytes = chunk, o.probe_min_bytes = 0, o.probe_chunks = 1;
+        o.mode = mode, o.chunk_bytes = chunk, o.adaptive_min_bytes = 0;
         KeptRecordsSummary s;
         const std::string got = WriteWith(dir / "out.bin", header, src, keep, o, &s);
         const std::string want = Expected(header, src.records, keep);
         ASSERT_EQ(got.size(), want.size()) << int(mode) << " chunk " << chunk;
         EXPECT_TRUE(got == want) << int(mode) << " chunk " << chunk;
         EXPECT_EQ(s.bytes, want.size());
-        if (mode != RecordWriteMode::kProbe) {
-          EXPECT_EQ(s.direct, mode == RecordWriteMode::kDirect && direct_works);
+        if (mode == RecordWriteMode::kBuffered) {
+          EXPECT_EQ(s.direct_bytes, 0u);
+        }
+        if (mode == RecordWriteMode::kDirect && direct_works) {  // every whole chunk
+          const std::size_t tail = want.size() % chunk;
+          EXPECT_EQ(s.direct_bytes, want.size() - tail + (tail % 4096 == 0 ? tail : 0));
         }
       }
   fs::remove_all(dir);

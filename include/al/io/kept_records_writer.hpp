@@ -5,9 +5,10 @@
 //
 // Why direct I/O is tried: on some machines (virtual machines whose host backs guest memory
 // lazily) the kernel's first touch of fresh page-cache pages dominates a big write: 557 MB of
-// remaining.ply took 2.2 s buffered against 0.5 s written through with O_DIRECT (docs/benchmarks.md).
-// On others buffered writes are the faster. kProbe times both on the first chunks and keeps the
-// faster; a file system that refuses O_DIRECT falls back to buffered writes.
+// remaining.ply took 2.2 s buffered against 0.4 s written through with O_DIRECT (docs/benchmarks.md).
+// Elsewhere (a slow disk, warm page cache) buffered writes are the faster, and on one machine the
+// faster way changes during one file. kAdaptive times every chunk and writes each the way that
+// is currently faster; a file system that refuses O_DIRECT gets buffered writes.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -18,21 +19,20 @@
 
 namespace al {
 
-enum class RecordWriteMode { kProbe, kBuffered, kDirect };
+enum class RecordWriteMode { kAdaptive, kBuffered, kDirect };
 
 struct KeptRecordsOptions {
   // Bytes per chunk; a multiple of kDirectAlignment (4096), at least one alignment unit.
   std::size_t chunk_bytes = std::size_t{4} << 20;
-  // Below this output size nothing is probed: buffered writes (page cache, no device wait).
-  std::uint64_t probe_min_bytes = std::uint64_t{64} << 20;
-  // Chunks written each way by kProbe before the faster way is kept for the rest.
-  std::size_t probe_chunks = 2;
-  RecordWriteMode mode = RecordWriteMode::kProbe;
+  // kAdaptive below this output size: buffered writes only (page cache, no device wait).
+  std::uint64_t adaptive_min_bytes = std::uint64_t{64} << 20;
+  // kDirect: every whole chunk through O_DIRECT where the file system takes it.
+  RecordWriteMode mode = RecordWriteMode::kAdaptive;
 };
 
 struct KeptRecordsSummary {
   std::uint64_t bytes = 0;  // header + kept records
-  bool direct = false;      // the bulk went through O_DIRECT
+  std::uint64_t direct_bytes = 0;  // of those, written through O_DIRECT
 };
 
 inline constexpr std::size_t kDirectAlignment = 4096;
