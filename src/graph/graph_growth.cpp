@@ -15,14 +15,21 @@
 namespace al {
 namespace {
 
-// Seeds the previous build did not grow from (and the state's seeds updated to include them).
-std::vector<std::uint8_t> FreshSeeds(graph_internal::SceneNodes& s, const std::vector<std::uint8_t>& extra) {
+// Seeds the previous build did not grow from.
+std::vector<std::uint8_t> FreshSeeds(const graph_internal::SceneNodes& s, const std::vector<std::uint8_t>& extra) {
   std::vector<std::uint8_t> fresh(s.seeds.size(), 0);
-  for (std::size_t i = 0; i < fresh.size(); ++i) {
-    fresh[i] = extra[i] && s.active[i] && !s.seeds[i];
-    s.seeds[i] = s.seeds[i] || extra[i];
-  }
+  for (std::size_t i = 0; i < fresh.size(); ++i) fresh[i] = extra[i] && s.active[i] && !s.seeds[i];
   return fresh;
+}
+
+// The candidates that growing from extra adds to the state's.
+std::vector<std::int64_t> AddedRows(const GraphGrowthState& state, const std::vector<std::uint8_t>& extra) {
+  const std::vector<std::uint8_t> fresh = FreshSeeds(state.scene, extra);
+  const std::vector<std::uint8_t> hit = GrowCandidates(state.scene.xyz, state.scene.radii, state.scene.active, fresh, 1);
+  std::vector<std::int64_t> rows;
+  for (std::size_t i = 0; i < hit.size(); ++i)
+    if (hit[i] && !state.candidate[i]) rows.push_back(std::int64_t(i));
+  return rows;
 }
 
 // The candidate statistics BuildRefineGraph would report for the grown seed set (hops = 1).
@@ -91,6 +98,13 @@ std::shared_ptr<GraphGrowthState> OwnState(GraphResult& previous) {
 
 }  // namespace
 
+std::optional<std::vector<std::int64_t>> NewCandidateRows(const GraphResult& previous,
+                                                          const std::vector<std::uint8_t>& extra_seeds) {
+  const GraphGrowthState* state = previous.growth.get();
+  if (!state || extra_seeds.size() != state->candidate.size()) return std::nullopt;
+  return AddedRows(*state, extra_seeds);
+}
+
 GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
                             const GraphOptions& options, GraphResult previous,
                             const std::vector<std::uint8_t>& extra_seeds) {
@@ -100,11 +114,9 @@ GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> featu
   options.Check();
   Timer total, stage;
   std::shared_ptr<GraphGrowthState> state = OwnState(previous);
-  const std::vector<std::uint8_t> fresh = FreshSeeds(state->scene, extra_seeds);
-  const std::vector<std::uint8_t> hit = GrowCandidates(state->scene.xyz, state->scene.radii, state->scene.active, fresh, 1);
-  std::vector<std::int64_t> new_rows;
-  for (std::size_t i = 0; i < hit.size(); ++i)
-    if (hit[i] && !state->candidate[i]) new_rows.push_back(std::int64_t(i)), state->candidate[i] = 1;
+  const std::vector<std::int64_t> new_rows = AddedRows(*state, extra_seeds);
+  for (std::size_t i = 0; i < extra_seeds.size(); ++i) state->scene.seeds[i] = state->scene.seeds[i] || extra_seeds[i];
+  for (std::int64_t i : new_rows) state->candidate[std::size_t(i)] = 1;
   const NodeMerge merge = MergeNodes(previous.problem.node_ids, new_rows);
   GraphResult out = graph_internal::NewGraphResult(scene, features, options, state->gate);
   GraphStats& st = out.stats;

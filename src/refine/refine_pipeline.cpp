@@ -143,6 +143,7 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
   report["graph"] = gs.ToJson();
   report["graph"]["rounds"] = grown.rounds;
   report["graph"]["growth_capped"] = grown.capped;
+  report["graph"]["growth_stop"] = grown.growth_stop;
   report["solver"] = solved.solver;
   report["decision"] = solved.decision;
   report["message"] = result.message;

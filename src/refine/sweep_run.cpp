@@ -232,7 +232,8 @@ class PointRunner {
     const double solve_and_decide = std::max(0.0, solve_timer.Seconds() - grown.graph_seconds);
     nlohmann::json solver_timings = nlohmann::json::object();
     nlohmann::json record = Record(id, sc, p, go, decision, solved, solver_timings);
-    record["growth"] = {{"rounds", grown.rounds}, {"capped", grown.capped}, {"nodes", grown.graph.stats.nodes}};
+    record["growth"] = {{"rounds", grown.rounds}, {"capped", grown.capped}, {"stop", grown.growth_stop},
+                        {"nodes", grown.graph.stats.nodes}};
     Timer score_timer;
     if (inputs_->ground_truth)
       record["gt"] = ScoreAgainstGroundTruth(*inputs_->ground_truth, inputs_->removal.removed, solved.refined);

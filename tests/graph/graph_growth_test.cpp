@@ -4,6 +4,8 @@
 // 1 and 2 threads.
 #include <omp.h>
 
+#include <algorithm>
+#include <iterator>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -52,6 +54,32 @@ TEST(GraphGrowth, TwoRoundsEqualFreshBuilds) {
     ExpectSameGraph(grown, fresh);
     EXPECT_GT(grown.problem.num_nodes(), 0u);
   }
+}
+
+// NewCandidateRows (the refine stages' "few new candidates" stop) names exactly the nodes the
+// grown graph adds, and changes nothing it is asked about.
+TEST(GraphGrowth, NewCandidateRowsAreTheNodesGrowthAdds) {
+  al::test::GraphScene g = al::test::MakeGraphScene(4000, 24, 8, 3, 40);
+  al::GraphOptions o;
+  al::GraphResult grown = al::BuildRefineGraph(g.scene, g.features, g.removed, o);
+  std::vector<std::uint8_t> seeds(g.removed.size(), 0);
+  EXPECT_TRUE(al::NewCandidateRows(grown, seeds)->empty());
+  EXPECT_FALSE(al::NewCandidateRows(grown, std::vector<std::uint8_t>(3, 1)).has_value());  // wrong size
+  for (int stride : {7, 2}) {
+    seeds = MoreSeeds(grown, g.removed, seeds, stride);
+    const std::vector<std::int64_t> rows = *al::NewCandidateRows(grown, seeds);
+    EXPECT_EQ(*al::NewCandidateRows(grown, seeds), rows);
+    std::vector<std::int64_t> before = grown.problem.node_ids;
+    grown = al::GrowRefineGraph(g.scene, g.features, g.removed, o, std::move(grown), seeds);
+    std::vector<std::int64_t> added;
+    std::set_difference(grown.problem.node_ids.begin(), grown.problem.node_ids.end(), before.begin(), before.end(),
+                        std::back_inserter(added));
+    EXPECT_EQ(rows, added);
+    EXPECT_FALSE(rows.empty());
+    EXPECT_TRUE(al::NewCandidateRows(grown, seeds)->empty());  // nothing left to grow from them
+  }
+  al::GraphResult none;
+  EXPECT_FALSE(al::NewCandidateRows(none, seeds).has_value());  // no growth state kept
 }
 
 TEST(GraphGrowth, ZeroNormNonFiniteDuplicatesAndAFarSeed) {

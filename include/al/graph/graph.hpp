@@ -160,6 +160,12 @@ GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> featu
                             const GraphOptions& options, GraphResult previous,
                             const std::vector<std::uint8_t>& extra_seeds);
 
+// The Gaussians (ascending scene rows) that GrowRefineGraph(previous, extra_seeds) would add as
+// candidates: those whose spheres meet a sphere of an extra seed not grown from yet. nullopt when
+// previous kept no growth state (GrowRefineGraph would then build anew).
+std::optional<std::vector<std::int64_t>> NewCandidateRows(const GraphResult& previous,
+                                                          const std::vector<std::uint8_t>& extra_seeds);
+
 // Median non-zero length of the kNN edges among the points xyz (n×3 row-major); 0 when every edge
 // has length 0 or there is none. The graph's σ_x, and the link length of the removed set's parts.
 double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz);

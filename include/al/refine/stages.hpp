@@ -109,6 +109,10 @@ struct GrownSolve {
   SolveOutcome outcome;
   int rounds = 1;                     // graphs built and solved
   bool capped = false;                // still adding when grow_rounds ran out
+  // Why growth stopped: "fixed" (grow_rounds 0), "empty graph", "trickle" (the round added under
+  // 0.5 % of the removed count), "few new candidates" (growing from what it added would bring
+  // under 0.5 % of the removed count into the graph), "capped".
+  std::string growth_stop = "fixed";
   double graph_seconds = 0.0;         // all builds
   double solve_seconds = 0.0;         // all solves
 };
