@@ -69,6 +69,47 @@ TEST(Knn, TwoHalfTreesGiveTheBruteForceAnswer) {
   }
 }
 
+// Scales spread over many octaves (dense clumps beside sparse points), coordinates from 1e-6 to
+// 1e6, and fewer points than k: lists and float distances equal brute force's.
+TEST(Knn, ClusteredScalesAndTinySetsGiveTheBruteForceAnswer) {
+  for (const double unit : {1e-6, 1.0, 1e6}) {
+    std::mt19937 rng(17);
+    std::lognormal_distribution<double> scale(0.0, 2.5);
+    std::normal_distribution<double> g(0.0, 1.0);
+    std::vector<float> xyz;
+    for (int c = 0; c < 40; ++c) {
+      const double s = scale(rng), cx = g(rng) * 20, cy = g(rng) * 20, cz = g(rng) * 20;
+      for (int i = 0; i < 100; ++i)
+        for (const double v : {cx + g(rng) * s, cy + g(rng) * s, cz + g(rng) * s}) xyz.push_back(float(v * unit));
+    }
+    for (int k : {1, 12}) {
+      const KnnResult r = KnnAmongPoints(xyz, {k, 0});
+      for (std::size_t i = 0; i < xyz.size() / 3; i += 7) {
+        const auto expect = BruteForce(xyz, i, k);
+        ASSERT_EQ(std::vector<std::int32_t>(r.neighbors.begin() + i * k, r.neighbors.begin() + (i + 1) * k), expect)
+            << "point " << i << ", unit " << unit;
+        for (int c = 0; c < k; ++c) {
+          float d = 0;
+          for (int a = 0; a < 3; ++a) {
+            const float x = xyz[3 * i + a] - xyz[3 * std::size_t(expect[c]) + a];
+            d += x * x;
+          }
+          ASSERT_EQ(r.sq_dist[i * k + c], d);
+        }
+      }
+    }
+  }
+  for (std::size_t n : {1u, 2u, 3u}) {  // k is cut to n - 1
+    std::vector<float> xyz;
+    for (std::size_t i = 0; i < n; ++i) xyz.insert(xyz.end(), {float(i), 0.f, float(n - i)});
+    const KnnResult r = KnnAmongPoints(xyz, {10, 0});
+    EXPECT_EQ(r.k, int(n) - 1);
+    for (std::size_t i = 0; i < n; ++i)
+      EXPECT_EQ(std::vector<std::int32_t>(r.neighbors.begin() + i * r.k, r.neighbors.begin() + (i + 1) * r.k),
+                BruteForce(xyz, i, r.k));
+  }
+}
+
 TEST(Knn, OneHundredThousandCoincidentPoints) {
   // Time is checked by cli.reliability_degenerate (100k coincident Gaussians refined in < 5 s).
   std::vector<float> xyz(3 * 100000, 0.5f);
