@@ -82,7 +82,8 @@ struct CutPursuitResult {
   std::vector<std::int64_t> split_nodes;
   std::vector<char> saturated;            // per component at the end (not offered to a next split)
   int remainder_saturations = 0;          // components saturated by saturate_split_remainders
-  std::vector<std::string> warnings;      // e.g. non-monotone objective steps
+  std::vector<std::string> warnings;      // e.g. non-monotone objective steps above 1e-6 relative
+  int non_monotone_steps = 0;             // every increase of F, however small
   // The level-set cold start (Init::kLevelSets): wall seconds, max-flows, pieces, plateau pieces.
   double init_seconds = 0.0;
   std::int64_t init_max_flows = 0, init_pieces = 0, init_plateaus = 0;

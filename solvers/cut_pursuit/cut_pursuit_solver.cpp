@@ -57,7 +57,7 @@ class CutPursuitSolver final : public Solver {
     out.stats["merge_seconds"] = r.merge_seconds;
     out.stats["split_nodes"] = r.split_nodes;
     out.stats["remainder_saturations"] = r.remainder_saturations;
-    out.stats["non_monotone_steps"] = r.warnings.size();
+    out.stats["non_monotone_steps"] = r.non_monotone_steps;
     out.stats["emulate_upstream_projection_bug"] = options_.emulate_upstream_projection_bug;
     out.stats["max_flow"] = MaxFlow::AlgorithmName(options_.max_flow);
     out.stats["warm_start"] = warm != nullptr;
