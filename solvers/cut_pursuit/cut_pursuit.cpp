@@ -476,7 +476,11 @@ SplitBuffers MakeSplitBuffers(std::int64_t V, int threads, MaxFlow::Algorithm al
   SplitBuffers buf;
   buf.local.resize(V);
   buf.label.resize(V);
-  buf.networks.resize(threads);
+  // No THP advice (max_flow.hpp): the first cuts of the level-set start fill each network to its
+  // largest size at once; advised, those first touches waited on compaction (685k problem, 3 runs
+  // interleaved: 2.03-3.06 s with, 1.93-1.97 s without; 3M refine median 7.01 -> 6.19 s, -25 MiB).
+  buf.networks.reserve(std::size_t(threads));
+  for (int t = 0; t < threads; ++t) buf.networks.emplace_back(false);
   for (MaxFlow& network : buf.networks) network.set_algorithm(algorithm);
   return buf;
 }

@@ -63,8 +63,8 @@ class MaxFlow {
   // built and solved once (MinCutLabels: the bk solver's one cut per round). With the kernel's THP
   // defrag "madvise", an advised first touch may wait for memory compaction: on this project's
   // shared VMs the bk cut of the 3M scene (8M arcs) then took 0.45-0.54 s to build instead of
-  // 0.15-0.19 s (3 runs each). Cut pursuit and exact reuse one network's buffers over many cuts
-  // and keep the advice.
+  // 0.15-0.19 s (3 runs each). Cut pursuit's networks (level-set start, splits) go without the
+  // advice too (cut_pursuit.cpp: its first cuts fill them at once); exact keeps it.
   explicit MaxFlow(bool huge_pages = true);
 
   void set_algorithm(Algorithm algorithm) { algorithm_ = algorithm; }
