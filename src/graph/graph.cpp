@@ -294,25 +294,36 @@ std::vector<std::int64_t> BucketCounts(const EdgeLengths& len) {
   return count;
 }
 
-// The rank-th smallest non-zero squared length (0-based), exactly: its bucket from the counts,
-// then only that bucket's values gathered and selected.
-double RankedLength2(const EdgeLengths& len, const std::vector<std::int64_t>& count, std::int64_t rank) {
-  std::uint64_t bucket = 0;
-  while (rank >= count[bucket]) rank -= count[bucket++];
-  std::vector<double> in_bucket;
-  in_bucket.reserve(std::size_t(count[bucket]));
+// The rank-th and (rank+1)-th smallest non-zero squared lengths (0-based; the second only when
+// want_next), exactly: their buckets from the counts, then only those buckets' values gathered (one
+// pass) and selected.
+std::pair<double, double> RankedLength2(const EdgeLengths& len, const std::vector<std::int64_t>& count,
+                                        std::int64_t rank, bool want_next) {
+  std::uint64_t first = 0;
+  while (rank >= count[first]) rank -= count[first++];
+  std::uint64_t last = first;  // the next rank's bucket: the first non-empty one after, if rank ends it
+  if (want_next && rank + 1 == count[first])
+    for (last = first + 1; count[last] == 0; ++last) {}
+  std::vector<double> in_buckets;
+  in_buckets.reserve(std::size_t(count[first] + (last != first ? count[last] : 0)));
 #pragma omp parallel
   {
     std::vector<double> mine;
 #pragma omp for schedule(static) nowait
     for (std::int64_t u = 0; u < len.rows(); ++u)
       for (std::size_t c = 0; c < len.k(); ++c)
-        if (const double x2 = len(std::size_t(u), c); x2 > 0 && (Bits(x2) >> kBucketShift) == bucket) mine.push_back(x2);
+        if (const double x2 = len(std::size_t(u), c); x2 > 0) {
+          const std::uint64_t b = Bits(x2) >> kBucketShift;
+          if (b == first || b == last) mine.push_back(x2);
+        }
 #pragma omp critical(al_median_gather)
-    in_bucket.insert(in_bucket.end(), mine.begin(), mine.end());
+    in_buckets.insert(in_buckets.end(), mine.begin(), mine.end());
   }
-  std::nth_element(in_bucket.begin(), in_bucket.begin() + rank, in_bucket.end());
-  return in_bucket[std::size_t(rank)];
+  // Every value of `last` is above every value of `first`: the ranks hold within the union.
+  const auto at = in_buckets.begin() + rank;
+  std::nth_element(in_buckets.begin(), at, in_buckets.end());
+  const double next = want_next ? *std::min_element(at + 1, in_buckets.end()) : 0.0;
+  return {*at, next};
 }
 
 }  // namespace
@@ -327,8 +338,9 @@ double MedianKnnEdgeLength(const KnnResult& knn, const std::vector<float>& xyz) 
   if (total == 0) return 0.0;
   const std::int64_t h = total / 2;
   // sqrt is monotone: the median length is the root of the median squared length.
-  if (total % 2) return std::sqrt(RankedLength2(len, count, h));
-  return 0.5 * (std::sqrt(RankedLength2(len, count, h)) + std::sqrt(RankedLength2(len, count, h - 1)));
+  if (total % 2) return std::sqrt(RankedLength2(len, count, h, false).first);
+  const auto [below, above] = RankedLength2(len, count, h - 1, true);
+  return 0.5 * (std::sqrt(above) + std::sqrt(below));
 }
 
 namespace graph_internal {

@@ -107,14 +107,14 @@ std::optional<std::vector<std::int64_t>> NewCandidateRows(const GraphResult& pre
 
 GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
                             const GraphOptions& options, GraphResult previous,
-                            const std::vector<std::uint8_t>& extra_seeds) {
+                            const std::vector<std::uint8_t>& extra_seeds, const std::vector<std::int64_t>* known_rows) {
   if (!previous.growth || options.hops != 1 || options.knn_checks != 0 || extra_seeds.size() != scene.size() ||
       previous.growth->candidate.size() != scene.size())
     return BuildRefineGraph(scene, features, removed, options, &extra_seeds);
   options.Check();
   Timer total, stage;
   std::shared_ptr<GraphGrowthState> state = OwnState(previous);
-  const std::vector<std::int64_t> new_rows = AddedRows(*state, extra_seeds);
+  const std::vector<std::int64_t> new_rows = known_rows ? *known_rows : AddedRows(*state, extra_seeds);
   for (std::size_t i = 0; i < extra_seeds.size(); ++i) state->scene.seeds[i] = state->scene.seeds[i] || extra_seeds[i];
   for (std::int64_t i : new_rows) state->candidate[std::size_t(i)] = 1;
   const NodeMerge merge = MergeNodes(previous.problem.node_ids, new_rows);

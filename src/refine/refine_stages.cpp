@@ -142,9 +142,9 @@ GraphResult BuildGraphGrown(const RefineInputs& inputs, const GraphOptions& opti
 
 // A later growth round: only what the new seeds add is searched and compared (GrowRefineGraph).
 GraphResult GrowGraph(const RefineInputs& inputs, const GraphOptions& options, GraphResult previous,
-                      const std::vector<std::uint8_t>& grown) {
+                      const std::vector<std::uint8_t>& grown, const std::vector<std::int64_t>* new_rows) {
   return GrowRefineGraph(*inputs.scene, inputs.features(), inputs.removal.removed, GraphOptionsFor(inputs, options),
-                         std::move(previous), grown);
+                         std::move(previous), grown, new_rows);
 }
 
 nlohmann::json RefinementChangeJson(const GroundTruth& truth, const std::vector<bool>& before,
@@ -441,7 +441,9 @@ namespace {
 // 0.5 % of the removed count, and while growing from those brings at least as many new candidates
 // into the graph (the most the next round can add; on the 3M room scene round 1 added 3,127 but
 // they brought 106 new candidates: a second graph and solve cost 2 s and moved F1 by 0.0002).
-bool GrowFurther(const RefineInputs& inputs, GrownSolve& r, std::vector<std::uint8_t>& grown) {
+// `rows` gets the new candidates when they were searched (for GrowGraph, not to search them again).
+bool GrowFurther(const RefineInputs& inputs, GrownSolve& r, std::vector<std::uint8_t>& grown,
+                 std::optional<std::vector<std::int64_t>>& rows) {
   const std::vector<bool>& removed = inputs.removal.removed;
   const std::size_t bar = inputs.removal.num_removed;  // counts below bar / 200 are a trickle
   std::vector<std::uint8_t> next = grown;
@@ -450,7 +452,7 @@ bool GrowFurther(const RefineInputs& inputs, GrownSolve& r, std::vector<std::uin
     if (r.outcome.refined[i] && !removed[i] && !grown[i]) next[i] = 1, ++fresh;
   r.growth_stop = "trickle";
   if (fresh == 0 || fresh * 200 < bar) return false;
-  const std::optional<std::vector<std::int64_t>> rows = NewCandidateRows(r.graph, next);
+  rows = NewCandidateRows(r.graph, next);
   r.growth_stop = "few new candidates";
   if (rows && (rows->empty() || rows->size() * 200 < bar)) return false;
   grown = std::move(next);
@@ -465,6 +467,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
   const GraphOptions options = WithLambdaFor(inputs, graph_options, solver);
   const std::vector<bool>& removed = inputs.removal.removed;
   std::vector<std::uint8_t> grown(removed.size(), 0);  // everything added so far
+  std::optional<std::vector<std::int64_t>> new_rows;   // what growing from it brings in (GrowFurther)
   GrownSolve r;
   r.graph = std::move(first);
   for (int round = 0;; ++round) {
@@ -474,7 +477,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
       RefineProblem old_nodes;  // what the warm start needs of the last graph
       old_nodes.node_ids = r.graph.problem.node_ids;
       old_nodes.y_remove = r.graph.problem.y_remove;
-      r.graph = GrowGraph(inputs, options, std::move(r.graph), grown);
+      r.graph = GrowGraph(inputs, options, std::move(r.graph), grown, new_rows ? &*new_rows : nullptr);
       warm = WarmStartFor(old_nodes, r.outcome, r.graph.problem);
       r.graph_seconds += t.Seconds();
     }
@@ -485,7 +488,7 @@ GrownSolve SolveAndGrow(const RefineInputs& inputs, const GraphOptions& graph_op
       r.growth_stop = r.outcome.empty_graph ? "empty graph" : "fixed";
       break;
     }
-    if (!GrowFurther(inputs, r, grown)) break;
+    if (!GrowFurther(inputs, r, grown, new_rows)) break;
     if (round >= options.grow_rounds) {
       r.capped = true;
       r.growth_stop = "capped";

@@ -70,7 +70,9 @@ TEST(GraphGrowth, NewCandidateRowsAreTheNodesGrowthAdds) {
     const std::vector<std::int64_t> rows = *al::NewCandidateRows(grown, seeds);
     EXPECT_EQ(*al::NewCandidateRows(grown, seeds), rows);
     std::vector<std::int64_t> before = grown.problem.node_ids;
-    grown = al::GrowRefineGraph(g.scene, g.features, g.removed, o, std::move(grown), seeds);
+    const al::GraphResult fresh = al::BuildRefineGraph(g.scene, g.features, g.removed, o, &seeds);
+    grown = al::GrowRefineGraph(g.scene, g.features, g.removed, o, std::move(grown), seeds, &rows);  // not searched again
+    ExpectSameGraph(grown, fresh);
     std::vector<std::int64_t> added;
     std::set_difference(grown.problem.node_ids.begin(), grown.problem.node_ids.end(), before.begin(), before.end(),
                         std::back_inserter(added));

@@ -14,9 +14,8 @@ void WriteFileAtomically(const std::filesystem::path& path,
                          const std::function<void(std::ostream&)>& write, bool binary = true);
 
 // The file descriptor under a stream that WriteFileAtomically handed to its callback, after
-// flushing the stream, so that bytes written to the descriptor directly (e.g. copied in the kernel
-// with copy_file_range) follow the stream's and later stream writes follow them; -1 for any other
-// stream.
+// flushing the stream, so that bytes written to the descriptor directly (e.g. pwrite at offsets by
+// the kept-records writer) follow the stream's; -1 for any other stream.
 int FlushedDescriptor(std::ostream& os);
 
 // Convenience: whole buffer.

@@ -156,9 +156,11 @@ GraphResult BuildRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> feat
 // compared feature by feature; the old nodes' lists change only where a new node comes closer
 // than their k-th neighbour. With hops > 1 or approximate kNN (knn_checks > 0), or without
 // previous.growth, it builds the graph anew. The result is the same either way.
+// new_rows: NewCandidateRows(previous, extra_seeds) when the caller has it already (not searched again).
 GraphResult GrowRefineGraph(const Scene& scene, Eigen::Ref<const RowMatXf> features, const std::vector<bool>& removed,
                             const GraphOptions& options, GraphResult previous,
-                            const std::vector<std::uint8_t>& extra_seeds);
+                            const std::vector<std::uint8_t>& extra_seeds,
+                            const std::vector<std::int64_t>* new_rows = nullptr);
 
 // The Gaussians (ascending scene rows) that GrowRefineGraph(previous, extra_seeds) would add as
 // candidates: those whose spheres meet a sphere of an extra seed not grown from yet. nullopt when
