@@ -15,7 +15,7 @@ namespace al::cp {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct Context {
-  const SimplexProblem& pb;
+  const SimplexProblemView& pb;
   const CutPursuitOptions& opt;
   int D;
   std::int64_t V;

@@ -30,8 +30,8 @@ class CutPursuitSolver final : public Solver {
  private:
   SolverResult Run(const RefineProblem& problem, const cp::WarmStart* warm) const {
     const auto start = std::chrono::steady_clock::now();
-    const cp::SimplexProblem sp = ToSimplexProblem(problem);
-    cp::CutPursuitResult r = cp::RunCutPursuit(sp, options_, warm);
+    std::vector<double> y;
+    cp::CutPursuitResult r = cp::RunCutPursuit(SimplexViewOf(problem, y), options_, warm);
     SolverResult out;
     out.solver = "cp";
     const std::size_t V = problem.num_nodes();
@@ -113,24 +113,31 @@ cp::CutPursuitOptions ParseCutPursuitOptions(const nlohmann::json& options) {
   return o;
 }
 
-cp::SimplexProblem ToSimplexProblem(const RefineProblem& problem) {
+cp::SimplexProblemView SimplexViewOf(const RefineProblem& problem, std::vector<double>& y) {
   const std::size_t V = problem.num_nodes();
   if (problem.first_edge.size() != V + 1)
     throw Error("refine problem: first_edge must hold V + 1 entries");
   if (!problem.node_weights.empty() && problem.node_weights.size() != V)
     throw Error("refine problem: node_weights must hold V entries");
+  y.resize(2 * V);
+  for (std::size_t v = 0; v < V; ++v) {
+    y[2 * v] = problem.y_remove[v];
+    y[2 * v + 1] = 1.0 - problem.y_remove[v];
+  }
+  return {2, problem.first_edge, problem.adj_vertices, problem.edge_weights, y, problem.node_weights, {},
+          problem.kl_smoothing};
+}
+
+cp::SimplexProblem ToSimplexProblem(const RefineProblem& problem) {
+  std::vector<double> y;
+  const cp::SimplexProblemView view = SimplexViewOf(problem, y);
   cp::SimplexProblem sp;
-  sp.D = 2;
   sp.first_edge = problem.first_edge;
   sp.adj_vertices = problem.adj_vertices;
   sp.edge_weights = problem.edge_weights;
   sp.node_weights = problem.node_weights;
-  sp.loss = problem.kl_smoothing;
-  sp.y.resize(2 * V);
-  for (std::size_t v = 0; v < V; ++v) {
-    sp.y[2 * v] = problem.y_remove[v];
-    sp.y[2 * v + 1] = 1.0 - problem.y_remove[v];
-  }
+  sp.loss = view.loss;
+  sp.y = std::move(y);
   return sp;
 }
 

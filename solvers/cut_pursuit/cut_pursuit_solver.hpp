@@ -16,6 +16,9 @@ namespace al {
 cp::CutPursuitOptions ParseCutPursuitOptions(const nlohmann::json& options);
 
 // Two-label simplex problem of a RefineProblem: y_v = (y_remove, 1 - y_remove), unit metric.
+// The view reads the problem's arrays in place (y is built in `y`, which must outlive the view);
+// ToSimplexProblem copies them.
+cp::SimplexProblemView SimplexViewOf(const RefineProblem& problem, std::vector<double>& y);
 cp::SimplexProblem ToSimplexProblem(const RefineProblem& problem);
 
 std::unique_ptr<Solver> MakeCutPursuitSolver(const nlohmann::json& options);

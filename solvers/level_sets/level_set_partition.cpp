@@ -423,31 +423,6 @@ Partition Run::Solve(std::vector<MaxFlow>* networks) {
 
 }  // namespace
 
-SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
-                                           std::span<const std::int32_t> adj_vertices) {
-  const std::int64_t V = static_cast<std::int64_t>(first_edge.size()) - 1;
-  SymmetricAdjacency a;
-  a.first.assign(V + 1, 0);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
-      ++a.first[u + 1];
-      ++a.first[adj_vertices[e] + 1];
-    }
-  for (std::int64_t v = 0; v < V; ++v) a.first[v + 1] += a.first[v];
-  a.nbr.resize(a.first[V]);
-  a.edge.resize(a.first[V]);
-  std::vector<std::int64_t> pos(a.first.begin(), a.first.end() - 1);
-  for (std::int64_t u = 0; u < V; ++u)
-    for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
-      const std::int32_t v = adj_vertices[e];
-      a.nbr[pos[u]] = v;
-      a.edge[pos[u]++] = e;
-      a.nbr[pos[v]] = static_cast<std::int32_t>(u);
-      a.edge[pos[v]++] = e;
-    }
-  return a;
-}
-
 Partition SolveLevelSets(const TwoLabelTv& problem, const Options& options, std::vector<MaxFlow>* networks) {
   if (problem.num_nodes() <= 0) return {};
   return Run(problem, options).Solve(networks);

@@ -352,11 +352,15 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   const bool check_rest_only = !options.sh_rest && !rest.empty();
   const bool check_rotations_only = !options.rotations && scene.has_rotations;
   if (check_rest_only) scene.sh_degree = 0;  // what the scene holds: f_dc
-  if (check_rest_only || check_rotations_only) scene.nonfinite_undecoded.assign(static_cast<std::size_t>(vertex.count), 0);
   const std::size_t coeffs = static_cast<std::size_t>((scene.sh_degree + 1) * (scene.sh_degree + 1));
   const std::vector<std::size_t> feature_cols = FeatureColumns(props, options, path, scene);
+  // Without feature columns the colour fallback reads f_dc: decoded then whatever the options say.
+  const bool check_f_dc_only = !options.f_dc && !options.sh_rest && scene.has_f_dc && !feature_cols.empty();
+  if (check_rest_only || check_rotations_only || check_f_dc_only)
+    scene.nonfinite_undecoded.assign(static_cast<std::size_t>(vertex.count), 0);
   AllocateColumns(static_cast<std::size_t>(vertex.count), coeffs, feature_cols.size(), scene);
   if (check_rotations_only) scene.rotations.resize(0, 4);
+  if (check_f_dc_only) scene.sh.resize(0, 3);
 
   std::vector<Target> plan;
   if (vertex.count == 0) return plan;  // empty matrices have no data pointer to offset from
@@ -373,7 +377,9 @@ std::vector<Target> PlanColumns(const HeaderElement& vertex, const PlyReadOption
   col_major("opacity", scene.opacity_logits.data());
   const std::size_t sh_cols = coeffs * 3;
   for (int c = 0; c < 3; ++c)
-    if (const auto p = FindProperty(by_name, "f_dc_" + std::to_string(c))) plan.push_back({*p, scene.sh.data() + c, sh_cols});
+    if (const auto p = FindProperty(by_name, "f_dc_" + std::to_string(c)))
+      plan.push_back(check_f_dc_only ? Target{*p, nullptr, 0, scene.nonfinite_undecoded.data()}
+                                     : Target{*p, scene.sh.data() + c, sh_cols});
   if (check_rest_only)
     for (std::size_t j : rest) plan.push_back({j, nullptr, 0, scene.nonfinite_undecoded.data()});
   // f_rest_j is channel-major in the file: j = ch*(K-1) + (k-1)  ->  sh(i, k*3 + ch).

@@ -351,6 +351,7 @@ RefineInputs LoadRefineInputs(const RefineOptions& o, nlohmann::json& report, Sc
   ro.feature_prefix = (in.feature_spec == "colour" || feat_file) ? "none" : in.feature_spec;
   ro.sh_rest = columns == SceneColumns::kAll;
   ro.rotations = columns == SceneColumns::kAll || EndsWith(o.removed, ".ply");  // subset matching compares them
+  ro.f_dc = ro.rotations || ro.feature_prefix == "none";  // else the scene's features serve, never colour
   Scene scene = ReadScene(o.scene, ro);
   AddInputFile(report, "scene", o.scene);
   LoadFeatures(o, scene, in, report);
