@@ -15,6 +15,8 @@
 #include <mutex>
 #include <numeric>
 
+#include "al/core/default_init_allocator.hpp"
+
 namespace al::levelset {
 namespace {
 
@@ -94,11 +96,14 @@ class Run {
   // neighbours sit close in memory: the caller's order is often spatially random (a kNN graph over
   // a scene's Gaussians) and every pass below walks neighbourhoods.
   std::vector<std::int32_t> order_;
-  std::vector<double> y_, w_;
+  // Filled by parallel loops right after their resize: no serial zero-fill (default_init_allocator.hpp).
+  template <class T>
+  using Filled = std::vector<T, DefaultInitAllocator<T>>;
+  Filled<double> y_, w_;
   // Symmetric adjacency without zero-weight edges and self-loops, om = omega_scale · w_e.
   std::vector<std::int64_t> ff_;
-  std::vector<std::int32_t> nbr_;
-  std::vector<double> om_;
+  Filled<std::int32_t> nbr_;
+  Filled<double> om_;
   std::vector<std::int32_t> owner_;  // id of the node's piece, -1 once final
   std::vector<std::int32_t> local_;  // position of the node in its piece
   std::vector<char> side_;           // 1 = above the last level cut of its piece
