@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "al/core/error.hpp"
+#include "al/core/first_touch.hpp"
 #include "al/core/memory_limit.hpp"
 #include "al/core/timer.hpp"
 #include "al/graph/candidates.hpp"
@@ -138,8 +139,13 @@ SceneNodes ActiveGaussians(const Scene& scene, Eigen::Ref<const RowMatXf> featur
                            const GraphOptions& options, const std::vector<std::uint8_t>* extra_seeds) {
   const std::size_t N = scene.size();
   const auto n_rows = static_cast<Eigen::Index>(N);
-  SceneNodes s{std::vector<std::uint8_t>(N), std::vector<std::uint8_t>(N), std::vector<double>(N, 0.0),
-               std::vector<float>(3 * N)};
+  SceneNodes s;
+  ReserveFirstTouched(s.radii, N);
+  ReserveFirstTouched(s.xyz, 3 * N);
+  s.active.resize(N);
+  s.seeds.resize(N);
+  s.radii.resize(N);
+  s.xyz.resize(3 * N);
   const bool has_rot = scene.rotations.rows() == n_rows;
   const bool has_op = scene.opacity_logits.size() == n_rows;
   const bool has_sh = scene.sh.rows() == n_rows;

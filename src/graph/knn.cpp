@@ -13,6 +13,7 @@
 
 #include <flann/flann.hpp>
 
+#include "al/core/first_touch.hpp"
 #include "al/core/timer.hpp"
 
 namespace al {
@@ -31,6 +32,9 @@ std::uint64_t Spread3(std::uint64_t v) {  // 21 bits -> every third bit
 // FLANN's exact kd-tree. L2_3D is L2_Simple unrolled for three coordinates: the same float sums in
 // the same order, without the loop.
 using ExactTree = flann::KDTreeSingleIndex<flann::L2_3D<float>>;
+// Points per leaf of the exact trees: any size gives the same lists; the kNN stage of the 3M scene
+// (685k points, k = 10) took 0.70 / 0.62 / 0.595 / 0.587 / 0.61 s with 4 / 10 / 16 / 24 / 32.
+constexpr std::size_t kExactLeafSize = 16;
 
 // (63-bit Morton code, point index), sorted: the points along a Z-order curve over their box.
 using MortonCodes = std::vector<std::pair<std::uint64_t, std::int32_t>>;
@@ -126,7 +130,7 @@ class ExactForest {
         }
       if (part.ids.empty()) continue;
       part.tree = std::make_unique<ExactTree>(flann::Matrix<float>(part.pts.data(), part.ids.size(), 3),
-                                              flann::KDTreeSingleIndexParams(10));
+                                              flann::KDTreeSingleIndexParams(kExactLeafSize));
       part.tree->buildIndex();
     }
   }
@@ -358,6 +362,8 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
   KnnResult result;
   result.k = std::max(0, std::min<int>(options.k, static_cast<int>(n) - 1));
   const int k = result.k;
+  ReserveFirstTouched(result.neighbors, n * k);
+  ReserveFirstTouched(result.sq_dist, n * k);
   result.neighbors.assign(n * k, -1);
   result.sq_dist.assign(n * k, 0.0f);
   if (k <= 0) {
@@ -433,7 +439,7 @@ namespace {
 // FLANN's exact kd-tree over n points (the data must outlive it), built on construction.
 struct ExactIndex : ExactTree {
   ExactIndex(float* data, std::size_t n)
-      : ExactTree(flann::Matrix<float>(data, n, 3), flann::KDTreeSingleIndexParams(10)) {
+      : ExactTree(flann::Matrix<float>(data, n, 3), flann::KDTreeSingleIndexParams(kExactLeafSize)) {
     buildIndex();
   }
 };
