@@ -1,9 +1,10 @@
 // Allocator whose value-less construction default-initialises: `resize(n)` of a vector of
 // arithmetic T leaves the new elements unwritten instead of zeroing them on the calling thread.
 // For big working arrays that a parallel loop fills right after: on this project's VMs the first
-// touch of a fresh 4 KiB page costs ~10 us (the host backs guest memory lazily), so a serial
+// touch of a fresh 4 KiB page costs 1-10 us (the host backs guest memory lazily), so a serial
 // zero-fill of 96 MB took 0.24 s before the fill loop wrote it again (level-set partition at 3M,
-// docs/solvers.md "cp speed (4)"); left to the loop, both threads share the first touch.
+// docs/solvers.md "Memory and first touch at 3M"); left to the loop, both threads share the
+// first touch.
 #pragma once
 #include <memory>
 #include <new>

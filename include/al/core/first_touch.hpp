@@ -1,7 +1,8 @@
 // Big working arrays whose pages are faulted in by all threads before a serial fill writes them.
-// On this project's VMs the first touch of a fresh 4 KiB page costs ~2-10 us (the host backs guest
+// On this project's VMs the first touch of a fresh 4 KiB page costs 1-10 us (the host backs guest
 // memory lazily), so a serial resize or assign of tens of MB costs tens of milliseconds of
-// page faults on one thread while the other core waits (docs/benchmarks.md "Scale").
+// page faults on one thread while the other core waits (docs/solvers.md "Memory and first touch
+// at 3M").
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -11,20 +12,25 @@
 
 namespace al {
 
-// Reserves room for n elements of v and touches one byte of every page of the new storage from
-// all threads (the storage is raw memory until resize/assign constructs the elements in it).
-// Small arrays, and calls inside a parallel region, only reserve.
-template <class T, class A>
-void ReserveFirstTouched(std::vector<T, A>& v, std::size_t n) {
+// Writes one byte of every 4 KiB page of the raw storage [p, p + bytes) from all threads, so its
+// page faults are shared. Blocks under 8 MiB, and calls inside a parallel region (where each
+// thread already touches its own), are left alone.
+inline void FirstTouchPages(void* p, std::size_t bytes) {
   constexpr std::size_t kPage = 4096, kMinBytes = std::size_t{8} << 20;
-  if (v.capacity() >= n) return;
-  v.reserve(n);
-  const std::size_t bytes = (v.capacity() - v.size()) * sizeof(T);
   if (bytes < kMinBytes || omp_in_parallel()) return;
-  unsigned char* storage = reinterpret_cast<unsigned char*>(v.data() + v.size());
+  unsigned char* storage = static_cast<unsigned char*>(p);
   const auto pages = static_cast<std::int64_t>(bytes / kPage);
 #pragma omp parallel for schedule(static)
   for (std::int64_t k = 0; k < pages; ++k) storage[std::size_t(k) * kPage] = 0;
+}
+
+// Reserves room for n elements of v and first-touches the new storage (FirstTouchPages; it is raw
+// memory until resize/assign constructs the elements in it).
+template <class T, class A>
+void ReserveFirstTouched(std::vector<T, A>& v, std::size_t n) {
+  if (v.capacity() >= n) return;
+  v.reserve(n);
+  FirstTouchPages(v.data() + v.size(), (v.capacity() - v.size()) * sizeof(T));
 }
 
 }  // namespace al

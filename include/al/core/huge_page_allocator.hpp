@@ -6,12 +6,11 @@
 // Without transparent huge pages (THP "never") the advice is ignored and nothing else changes.
 #pragma once
 #include <cstddef>
-#include <cstdint>
 #include <cstdlib>
 #include <limits>
 #include <new>
 
-#include <omp.h>
+#include "al/core/first_touch.hpp"
 
 #if defined(__linux__)
 #include <sys/mman.h>
@@ -46,21 +45,10 @@ struct HugePageAllocator {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
     if (advise) madvise(p, rounded, MADV_HUGEPAGE);  // advice only: failure leaves ordinary pages
 #endif
-    if (!advise) FirstTouchInParallel(static_cast<char*>(p), rounded);
+    // Without the advice, ordinary pages: faulted in by all threads (first_touch.hpp), since the
+    // caller (bk's network build) then fills them on one thread: 128 MB of arcs at 3M.
+    if (!advise) FirstTouchPages(p, rounded);
     return static_cast<T*>(p);
-  }
-
-  // Ordinary 4 KiB pages of a big block are faulted in by all threads at once, outside a parallel
-  // region: the caller (bk's network build) then fills them on one thread, and each first-touch
-  // fault costs ~10 us on these VMs (the host backs guest memory lazily), 0.3 s for the 3M scene's
-  // 128 MB of arcs on one thread (docs/solvers.md "cp speed (4)"). Inside a parallel region (cp's
-  // per-thread networks) each thread already touches its own.
-  static void FirstTouchInParallel(char* p, std::size_t bytes) {
-    constexpr std::size_t kPage = 4096, kMinBytes = std::size_t{8} << 20;
-    if (bytes < kMinBytes || omp_in_parallel()) return;
-    const auto pages = static_cast<std::int64_t>(bytes / kPage);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t k = 0; k < pages; ++k) p[std::size_t(k) * kPage] = 0;
   }
 
   void deallocate(T* p, std::size_t n) noexcept {
