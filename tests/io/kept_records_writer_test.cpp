@@ -78,10 +78,14 @@ bool DirectIoWorks(const fs::path& dir) {
 
 std::vector<std::vector<bool>> Masks(std::size_t n) {
   std::mt19937 rng(11);
-  std::vector<bool> random(n), alternate(n), none(n, false), all(n, true), tail_only(n, false);
+  std::vector<bool> random(n), alternate(n), none(n, false), all(n, true), tail_only(n, false), sparse(n), far(n);
   for (std::size_t i = 0; i < n; ++i) random[i] = rng() % 10 < 7, alternate[i] = i % 2 == 0;
   tail_only[n - 1] = true;
-  return {random, alternate, none, all, tail_only};
+  // Runs read together in one span of the source: one kept record in three spans more than two
+  // chunks' worth (the span is cut), and a gap of 1200 records (73 KB, over the 64 KB that one
+  // span may skip) between runs that share an output chunk.
+  for (std::size_t i = 0; i < n; ++i) sparse[i] = i % 3 == 0, far[i] = i < 500 || i == 1700 || (i >= 2000 && i % 3 != 0);
+  return {random, alternate, none, all, tail_only, sparse, far};
 }
 
 TEST(KeptRecordsWriter, EveryModeWritesTheKeptRecordsInOrder) {
