@@ -58,7 +58,7 @@ class Run {
     if (pb.adjacency) {
       Renumber(*pb.adjacency);
     } else {
-      Renumber(BuildSymmetricAdjacency(pb.first_edge, pb.adj_vertices));
+      Renumber(BuildSymmetricAdjacency(pb.first_edge, pb.adj_vertices, pb.edge_weights));
     }
   }
   Partition Solve(std::vector<MaxFlow>* networks);
@@ -71,10 +71,13 @@ class Run {
   double Ddphi(std::int32_t v, double t) const {
     return w_[v] * (pb_.loss.Hess(y_[2 * v], t) + pb_.loss.Hess(y_[2 * v + 1], 1.0 - t));
   }
-  // Per adjacency entry: 1 if it is kept (positive weight, not a self-loop). Read once, on both
-  // threads: the weight sits at a random edge index, and the serial walk below read it for every
-  // entry (at 3M, 8M cache misses on one thread were a tenth of the level-set start).
+  // Per adjacency entry: 1 if it is kept (positive weight, not a self-loop), found once on both
+  // threads; the serial walk below read the weight of every entry (at 3M, at a random edge id:
+  // 8M cache misses on one thread were a tenth of the level-set start).
   std::vector<std::uint8_t> KeptEntries(const SymmetricAdjacency& adj) const;
+  double Weight(const SymmetricAdjacency& adj, std::int64_t k) const {
+    return adj.weight.empty() ? pb_.edge_weights[adj.edge[k]] : adj.weight[k];
+  }
   void Renumber(const SymmetricAdjacency& adj);
   void RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::uint8_t>& kept,
                            const std::vector<std::int32_t>& perm);
@@ -134,7 +137,7 @@ std::vector<std::uint8_t> Run::KeptEntries(const SymmetricAdjacency& adj) const 
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int32_t v = 0; v < V_; ++v)
     for (std::int64_t k = adj.first[v]; k < adj.first[v + 1]; ++k)
-      kept[k] = adj.nbr[k] != v && pb_.edge_weights[adj.edge[k]] > 0.0;
+      kept[k] = adj.nbr[k] != v && Weight(adj, k) > 0.0;
   return kept;
 }
 
@@ -187,7 +190,7 @@ void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<s
     for (std::int64_t k = adj.first[v]; k < adj.first[v + 1]; ++k) {
       if (!kept[k]) continue;
       nbr_[pos] = perm[adj.nbr[k]];
-      om_[pos++] = pb_.omega_scale * pb_.edge_weights[adj.edge[k]];
+      om_[pos++] = pb_.omega_scale * Weight(adj, k);
     }
   }
 }

@@ -23,14 +23,18 @@
 namespace al::levelset {
 
 // Both directions of every stored edge: the neighbours of v are nbr[first[v] .. first[v + 1]),
-// reached through the stored edge edge[k] (in the order of the stored edges).
+// reached through the stored edge edge[k] (in the order of the stored edges). Built with edge
+// weights, an entry carries its edge's weight[k] instead of the edge id (edge stays empty): a
+// caller that only needs the weight then reads it beside the neighbour, not at a random edge id.
 struct SymmetricAdjacency {
   std::vector<std::int64_t> first;
   std::vector<std::int32_t> nbr;
   std::vector<std::int64_t> edge;
+  std::vector<double> weight;
 };
 SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
-                                           std::span<const std::int32_t> adj_vertices);
+                                           std::span<const std::int32_t> adj_vertices,
+                                           std::span<const double> edge_weights = {});
 
 struct TwoLabelTv {
   std::span<const std::int64_t> first_edge;    // V + 1 (CSR, every undirected edge stored once)

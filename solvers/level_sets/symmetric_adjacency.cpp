@@ -13,8 +13,22 @@
 namespace al::levelset {
 namespace {
 
+// Entry k of `a` reached through stored edge e: its edge id, or its weight when built with weights.
+void SetEntry(SymmetricAdjacency& a, std::span<const double> weights, std::int64_t k, std::int32_t v, std::int64_t e) {
+  a.nbr[std::size_t(k)] = v;
+  if (weights.empty()) a.edge[std::size_t(k)] = e;
+  else a.weight[std::size_t(k)] = weights[std::size_t(e)];
+}
+
+void SizeEntries(SymmetricAdjacency& a, std::span<const double> weights) {
+  const auto m = std::size_t(a.first.back());
+  a.nbr.resize(m);
+  if (weights.empty()) a.edge.resize(m);
+  else a.weight.resize(m);
+}
+
 SymmetricAdjacency SequentialAdjacency(std::span<const std::int64_t> first_edge,
-                                       std::span<const std::int32_t> adj_vertices) {
+                                       std::span<const std::int32_t> adj_vertices, std::span<const double> weights) {
   const std::int64_t V = static_cast<std::int64_t>(first_edge.size()) - 1;
   SymmetricAdjacency a;
   a.first.assign(V + 1, 0);
@@ -24,16 +38,13 @@ SymmetricAdjacency SequentialAdjacency(std::span<const std::int64_t> first_edge,
       ++a.first[adj_vertices[e] + 1];
     }
   for (std::int64_t v = 0; v < V; ++v) a.first[v + 1] += a.first[v];
-  a.nbr.resize(a.first[V]);
-  a.edge.resize(a.first[V]);
+  SizeEntries(a, weights);
   std::vector<std::int64_t> pos(a.first.begin(), a.first.end() - 1);
   for (std::int64_t u = 0; u < V; ++u)
     for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
       const std::int32_t v = adj_vertices[e];
-      a.nbr[pos[u]] = v;
-      a.edge[pos[u]++] = e;
-      a.nbr[pos[v]] = static_cast<std::int32_t>(u);
-      a.edge[pos[v]++] = e;
+      SetEntry(a, weights, pos[u]++, v, e);
+      SetEntry(a, weights, pos[v]++, static_cast<std::int32_t>(u), e);
     }
   return a;
 }
@@ -52,7 +63,8 @@ bool StoredAtSmallerEnd(std::span<const std::int64_t> first_edge, std::span<cons
 // The parallel build: the sources in `parts` ranges, each range's reverse entries into a node after
 // those of the ranges below it (per-range counts give the offsets).
 SymmetricAdjacency ParallelAdjacency(std::span<const std::int64_t> first_edge,
-                                     std::span<const std::int32_t> adj_vertices, int parts) {
+                                     std::span<const std::int32_t> adj_vertices, std::span<const double> weights,
+                                     int parts) {
   const std::int64_t V = static_cast<std::int64_t>(first_edge.size()) - 1;
   SymmetricAdjacency a;
   a.first.assign(V + 1, 0);
@@ -71,8 +83,7 @@ SymmetricAdjacency ParallelAdjacency(std::span<const std::int64_t> first_edge,
     for (auto& counts : at) reverse += std::exchange(counts[std::size_t(w)], reverse);
     a.first[w + 1] = a.first[w] + reverse + (first_edge[w + 1] - first_edge[w]);
   }
-  a.nbr.resize(std::size_t(a.first[V]));
-  a.edge.resize(std::size_t(a.first[V]));
+  SizeEntries(a, weights);
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
   for (int t = 0; t < parts; ++t) {
     const auto [u0, u1] = range(t);
@@ -82,11 +93,8 @@ SymmetricAdjacency ParallelAdjacency(std::span<const std::int64_t> first_edge,
       std::int64_t own = a.first[u + 1] - (first_edge[u + 1] - first_edge[u]);
       for (std::int64_t e = first_edge[u]; e < first_edge[u + 1]; ++e) {
         const std::int32_t v = adj_vertices[e];
-        a.nbr[std::size_t(own)] = v;
-        a.edge[std::size_t(own++)] = e;
-        const std::int64_t k = a.first[v] + offset[std::size_t(v)]++;
-        a.nbr[std::size_t(k)] = static_cast<std::int32_t>(u);
-        a.edge[std::size_t(k)] = e;
+        SetEntry(a, weights, own++, v, e);
+        SetEntry(a, weights, a.first[v] + offset[std::size_t(v)]++, static_cast<std::int32_t>(u), e);
       }
     }
   }
@@ -96,11 +104,12 @@ SymmetricAdjacency ParallelAdjacency(std::span<const std::int64_t> first_edge,
 }  // namespace
 
 SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
-                                           std::span<const std::int32_t> adj_vertices) {
+                                           std::span<const std::int32_t> adj_vertices,
+                                           std::span<const double> edge_weights) {
   const int threads = std::min(omp_get_max_threads(), 8);
   if (threads < 2 || adj_vertices.size() < (1u << 16) || !StoredAtSmallerEnd(first_edge, adj_vertices))
-    return SequentialAdjacency(first_edge, adj_vertices);
-  return ParallelAdjacency(first_edge, adj_vertices, threads);
+    return SequentialAdjacency(first_edge, adj_vertices, edge_weights);
+  return ParallelAdjacency(first_edge, adj_vertices, edge_weights, threads);
 }
 
 }  // namespace al::levelset

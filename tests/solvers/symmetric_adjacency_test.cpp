@@ -70,6 +70,15 @@ TEST(SymmetricAdjacency, ListsFollowOneSequentialPassForEveryThreadCount) {
         SCOPED_TRACE("V " + std::to_string(V) + " upper " + std::to_string(upper) + " threads " +
                      std::to_string(threads));
         ExpectSame(levelset::BuildSymmetricAdjacency(g.first, g.adj), want);
+        // With weights: the same neighbours, each entry carrying its edge's weight, no edge ids.
+        std::vector<double> weights(g.adj.size());
+        for (std::size_t e = 0; e < weights.size(); ++e) weights[e] = 0.25 + double(e % 97);
+        const levelset::SymmetricAdjacency w = levelset::BuildSymmetricAdjacency(g.first, g.adj, weights);
+        EXPECT_EQ(w.first, want.first);
+        EXPECT_EQ(w.nbr, want.nbr);
+        EXPECT_TRUE(w.edge.empty());
+        ASSERT_EQ(w.weight.size(), want.edge.size());
+        for (std::size_t k = 0; k < w.weight.size(); ++k) ASSERT_EQ(w.weight[k], weights[want.edge[k]]) << k;
       }
     }
   omp_set_num_threads(before);
