@@ -3,7 +3,7 @@
 // brute-force O(|R|·N) test with the predicate SpheresIntersect below. Near-linear: the growing set
 // goes into a kd-tree whose nodes carry their largest radius (branch and bound on
 // dist(μ_j, box) − max r); the largest spheres (more than 8× the median radius) live in small trees
-// of their own, one per factor-2 range of radius, so huge Gaussians do not weaken the pruning of
+// of their own, one per factor-8 range of radius, so huge Gaussians do not weaken the pruning of
 // the main tree nor of each other. The trees are built in parallel tasks.
 #pragma once
 #include <cstdint>
