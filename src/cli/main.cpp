@@ -9,6 +9,7 @@
 #include "al/core/error.hpp"
 #include "al/core/interrupts.hpp"
 #include "src/cli/command.hpp"
+#include "src/cli/malloc_defaults.hpp"
 #include "src/cli/openmp_defaults.hpp"
 #include "src/cli/run_policy.hpp"
 
@@ -40,6 +41,7 @@ std::vector<std::string> WithDefaultSubcommand(int argc, char** argv,
 int main(int argc, char** argv) {
   using namespace al::cli;
   ApplyOpenMpDefaults(argv);
+  ApplyMallocDefaults();
   al::InstallInterruptCleanup();  // before any thread: every thread leaves the signals to it
   CLI::App app{
       "al-refine: refine and score object removals in 3D Gaussian Splatting scenes.\n"
