@@ -134,8 +134,6 @@ class Run {
   std::int32_t next_id_ = 0;
 };
 
-// Breadth-first order over the whole graph (edges of positive weight between distinct nodes) from
-// the caller's smallest unvisited node: each connected component becomes a contiguous range.
 std::vector<std::uint8_t> Run::KeptEntries(const SymmetricAdjacency& adj) const {
   std::vector<std::uint8_t> kept(adj.nbr.size());
   const int threads = std::max(1, opt_.num_threads);
@@ -146,6 +144,8 @@ std::vector<std::uint8_t> Run::KeptEntries(const SymmetricAdjacency& adj) const 
   return kept;
 }
 
+// Breadth-first order over the whole graph (edges of positive weight between distinct nodes) from
+// the caller's smallest unvisited node: each connected component becomes a contiguous range.
 void Run::Renumber(const SymmetricAdjacency& adj) {
   const std::vector<std::uint8_t> kept = KeptEntries(adj);
   order_.reserve(V_);
