@@ -1,8 +1,11 @@
 // The graph's edges from its kNN lists (SPEC §4.4-4.6): unique pairs at the smaller node, their
 // feature distances (reused across growth rounds), the gate and the weights. Parallel loops write
 // per-node slots only; counts are summed in node order: thread-count independent.
+#include <omp.h>
+
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "src/graph/graph_internal.hpp"
 
@@ -28,25 +31,45 @@ double Cached(const PairCache& previous, std::int32_t a, std::int32_t b) {
   return it != last && *it == b ? previous.df2[std::size_t(it - previous.other.begin())] : std::nan("");
 }
 
+// The kNN entries scattered to the row of their smaller end (each row's entries unsorted, with
+// repeats) in `all`, rows starting at `start`. Ranges of rows u are scattered in parallel; a
+// range's entries into row w follow those of the ranges below it (per-range counts give offsets).
+void ScatterToSmallerEnd(const KnnResult& knn, std::size_t V, std::vector<std::int64_t>& start,
+                         std::vector<std::int32_t>& all) {
+  const int K = knn.k;
+  const int parts = std::clamp(omp_get_max_threads(), 1, 8);
+  auto range = [&](int t) { return std::pair{V * std::size_t(t) / std::size_t(parts), V * std::size_t(t + 1) / std::size_t(parts)}; };
+  std::vector<std::vector<std::int32_t>> at(std::size_t(parts), std::vector<std::int32_t>(V, 0));
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+  for (int t = 0; t < parts; ++t)
+    for (std::size_t u = range(t).first; u < range(t).second; ++u)
+      for (int c = 0; c < K; ++c)
+        if (const std::int32_t v = knn.neighbors[u * std::size_t(K) + std::size_t(c)]; v >= 0)
+          ++at[std::size_t(t)][std::min<std::size_t>(u, std::size_t(v))];
+  start.assign(V + 1, 0);
+  for (std::size_t w = 0; w < V; ++w) {
+    std::int64_t row = 0;
+    for (auto& counts : at) row += std::exchange(counts[w], std::int32_t(row));
+    start[w + 1] = start[w] + row;
+  }
+  all.resize(std::size_t(start[V]));
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+  for (int t = 0; t < parts; ++t)
+    for (std::size_t u = range(t).first; u < range(t).second; ++u)
+      for (int c = 0; c < K; ++c)
+        if (const std::int32_t v = knn.neighbors[u * std::size_t(K) + std::size_t(c)]; v >= 0) {
+          const std::size_t w = std::min<std::size_t>(u, std::size_t(v));
+          all[std::size_t(start[w] + at[std::size_t(t)][w]++)] = std::int32_t(std::max<std::size_t>(u, std::size_t(v)));
+        }
+}
+
 }  // namespace
 
 PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
-  const int K = knn.k;
   PairCache pc{std::vector<std::int64_t>(V + 1, 0), {}, {}};
-  std::vector<std::int64_t> start(V + 1, 0);
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) ++start[std::min<std::size_t>(u, v) + 1];
-    }
-  for (std::size_t v = 0; v < V; ++v) start[v + 1] += start[v];
-  std::vector<std::int32_t> all(std::size_t(start[V]));
-  std::vector<std::int64_t> cur(start.begin(), start.end() - 1);
-  for (std::size_t u = 0; u < V; ++u)
-    for (int c = 0; c < K; ++c) {
-      const std::int32_t v = knn.neighbors[u * K + c];
-      if (v >= 0) all[std::size_t(cur[std::min<std::size_t>(u, v)]++)] = std::int32_t(std::max<std::size_t>(u, v));
-    }
+  std::vector<std::int64_t> start;
+  std::vector<std::int32_t> all;
+  ScatterToSmallerEnd(knn, V, start, all);
   std::vector<std::int64_t> count(V, 0);
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel for schedule(dynamic, 2048)

