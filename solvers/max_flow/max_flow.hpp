@@ -140,6 +140,8 @@ class MaxFlow {
 
   void Build();
   void BuildFromCsr();
+  int CsrBuildParts() const;
+  void BuildFromCsrParallel(int parts);
   double CutValue() const;
   void GreedyPreflow();
   bool BoykovKolmogorov(std::int64_t max_work);

@@ -6,6 +6,9 @@
 // where the hybrid does hand over to pseudoflow, pseudoflow alone leaving the BK completion nothing
 // to augment (it is a maximum-flow algorithm by itself), degenerate networks, and agreement with the
 // independent Boost Boykov-Kolmogorov reference on a 3,000-node kNN level cut.
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -239,6 +242,51 @@ TEST(MaxFlow, AgreesWithBoostOnKnnLevelCut) {
     EXPECT_GT(source, 0u) << "t = " << t;  // a real split, not a trivial cut
     EXPECT_LT(source, V) << "t = " << t;
   }
+}
+
+// SetEdges lays out large networks on several threads (ranges of sources, edges stored at their
+// smaller end): the same arcs in the same order as the serial fill, so the same augmentations,
+// source side and cut value on any thread count, and the same cut as the AddEdge network.
+TEST(MaxFlow, CsrNetworkIsTheSameOnAnyThreadCount) {
+  const al::RefineProblem pb = al::fixtures::MakeKnnProblem(20000, 10, 0.1, 0.1, false, 13);
+  ASSERT_GE(pb.adj_vertices.size(), std::size_t{1} << 16);  // large enough for the parallel layout
+  const al::Loss loss{0.1, 2};
+  const std::int32_t V = static_cast<std::int32_t>(pb.num_nodes());
+  std::vector<double> cap(pb.edge_weights.size());
+  for (std::size_t e = 0; e < cap.size(); ++e) cap[e] = 2.0 * pb.edge_weights[e];
+  auto solve = [&](int threads, bool csr, std::vector<char>& side, std::int64_t& augmentations) {
+    const int before = omp_get_max_threads();
+    omp_set_num_threads(threads);
+    al::MaxFlow mf;
+    mf.set_algorithm(Algorithm::kBoykovKolmogorov);
+    mf.Reset(V);
+    for (std::int32_t v = 0; v < V; ++v)
+      mf.AddUnary(v, loss.Grad(pb.y_remove[v], 0.45) - loss.Grad(1.0 - pb.y_remove[v], 0.55));
+    if (csr) {
+      mf.SetEdges(pb.first_edge, pb.adj_vertices, cap);
+    } else {
+      for (std::int32_t u = 0; u < V; ++u)
+        for (std::int64_t e = pb.first_edge[u]; e < pb.first_edge[u + 1]; ++e) mf.AddEdge(u, pb.adj_vertices[e], cap[e], cap[e]);
+    }
+    const double value = mf.Solve();
+    omp_set_num_threads(before);
+    side.resize(V);
+    for (std::int32_t v = 0; v < V; ++v) side[v] = mf.SourceSide(v);
+    augmentations = mf.num_augmentations();
+    return value;
+  };
+  std::vector<char> serial_side, side, edge_side;
+  std::int64_t serial_aug = 0, aug = 0, edge_aug = 0;
+  const double serial = solve(1, true, serial_side, serial_aug);
+  for (int threads : {2, 3, 8}) {
+    EXPECT_EQ(solve(threads, true, side, aug), serial) << threads << " threads";
+    EXPECT_EQ(aug, serial_aug) << threads << " threads";
+    EXPECT_EQ(side, serial_side) << threads << " threads";
+  }
+  EXPECT_NEAR(solve(2, false, edge_side, edge_aug), serial, 1e-12 * serial);
+  EXPECT_EQ(edge_side, serial_side);
+  EXPECT_GT(std::count(serial_side.begin(), serial_side.end(), 1), 0);  // a real split
+  EXPECT_LT(std::count(serial_side.begin(), serial_side.end(), 1), V);
 }
 
 }  // namespace
