@@ -110,6 +110,7 @@ class Run {
   // neighbours sit close in memory: the caller's order is often spatially random (a kNN graph over
   // a scene's Gaussians) and every pass below walks neighbourhoods.
   std::vector<std::int32_t> order_;
+  std::vector<std::int32_t> component_start_;  // first internal id of each connected component
   // Filled by parallel loops right after their resize: no serial zero-fill (default_init_allocator.hpp).
   template <class T>
   using Filled = std::vector<T, DefaultInitAllocator<T>>;
@@ -153,6 +154,7 @@ void Run::Renumber(const SymmetricAdjacency& adj) {
   for (std::int32_t s = 0; s < V_; ++s) {
     if (perm[s] >= 0) continue;
     perm[s] = static_cast<std::int32_t>(order_.size());
+    component_start_.push_back(perm[s]);
     order_.push_back(s);
     for (std::size_t h = perm[s]; h < order_.size(); ++h) {
       const std::int32_t v = order_[h];
@@ -200,20 +202,15 @@ void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<s
   }
 }
 
-// The connected components of the whole graph (contiguous ranges of the internal numbering) are
-// the first pieces.
+// The connected components of the whole graph are the first pieces: the ranges of the internal
+// numbering that Renumber's walks covered, one walk per component (kept edges join the same nodes
+// as nbr_ does).
 void Run::InitialPieces() {
-  std::vector<char> seen(V_, 0);
-  for (std::int32_t s = 0; s < V_; ++s) {
-    if (seen[s]) continue;
-    std::int32_t end = s + 1;
-    seen[s] = 1;
-    for (std::int32_t v = s; v < end; ++v)
-      for (std::int64_t k = ff_[v]; k < ff_[v + 1]; ++k)
-        if (!seen[nbr_[k]]) { seen[nbr_[k]] = 1; ++end; }
+  component_start_.push_back(V_);
+  for (std::size_t c = 0; c + 1 < component_start_.size(); ++c) {
     Piece p;
-    p.members.resize(end - s);
-    std::iota(p.members.begin(), p.members.end(), s);
+    p.members.resize(component_start_[c + 1] - component_start_[c]);
+    std::iota(p.members.begin(), p.members.end(), component_start_[c]);
     p.id = next_id_++;
     for (std::int32_t v : p.members) owner_[v] = p.id;
     queue_.push_back(std::move(p));
