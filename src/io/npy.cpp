@@ -273,21 +273,26 @@ std::vector<double> NpyArray::ToDouble() const {
 
 std::vector<std::int64_t> NpyArray::ToInt64() const {
   if (!is_integer() && !is_bool()) throw Error("npy: dtype " + descr + " is not an integer type");
-  const std::size_t n = size();
-  std::vector<std::int64_t> out(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t* p = data + i * item_size;
-    if (descr == "u8") {
+  const auto n = static_cast<std::int64_t>(size());
+  std::vector<std::int64_t> out(static_cast<std::size_t>(n));
+  // The dtype is looked at once, not per element (two string compares per label of a 3M scene
+  // were a serial 5 ms), and the elements converted on all threads.
+  const bool u8 = descr == "u8", i8 = descr == "i8";
+#pragma omp parallel for schedule(static) if (n > 65536)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = data + static_cast<std::size_t>(i) * item_size;
+    std::int64_t& o = out[static_cast<std::size_t>(i)];
+    if (u8) {
       std::uint64_t v;
       std::memcpy(&v, p, 8);
       // Values above int64 max cannot be indices; saturate so range checks reject them.
-      out[i] = v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
-                   ? std::numeric_limits<std::int64_t>::max()
-                   : static_cast<std::int64_t>(v);
-    } else if (descr == "i8") {
-      std::memcpy(&out[i], p, 8);
+      o = v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())
+              ? std::numeric_limits<std::int64_t>::max()
+              : static_cast<std::int64_t>(v);
+    } else if (i8) {
+      std::memcpy(&o, p, 8);
     } else {
-      out[i] = static_cast<std::int64_t>(At(i));  // exact: <= 32-bit values fit a double
+      o = static_cast<std::int64_t>(At(static_cast<std::size_t>(i)));  // exact: <= 32-bit values fit a double
     }
   }
   return out;
