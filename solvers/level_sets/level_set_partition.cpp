@@ -82,6 +82,8 @@ class Run {
     return adj.weight.empty() ? pb_.edge_weights[adj.edge[k]] : adj.weight[k];
   }
   void Renumber(const SymmetricAdjacency& adj);
+  void Walk(const SymmetricAdjacency& adj, const std::vector<std::uint8_t>& kept, std::vector<std::int32_t>& perm);
+  void PrepareRenumbered(const std::vector<std::uint8_t>& kept);
   void RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::uint8_t>& kept,
                            const std::vector<std::int32_t>& perm);
   // owner_ and lo_ of other pieces' nodes change while a piece is cut (never their classification).
@@ -147,10 +149,8 @@ std::vector<std::uint8_t> Run::KeptEntries(const SymmetricAdjacency& adj) const 
 
 // Breadth-first order over the whole graph (edges of positive weight between distinct nodes) from
 // the caller's smallest unvisited node: each connected component becomes a contiguous range.
-void Run::Renumber(const SymmetricAdjacency& adj) {
-  const std::vector<std::uint8_t> kept = KeptEntries(adj);
+void Run::Walk(const SymmetricAdjacency& adj, const std::vector<std::uint8_t>& kept, std::vector<std::int32_t>& perm) {
   order_.reserve(V_);
-  std::vector<std::int32_t> perm(V_, -1);
   for (std::int32_t s = 0; s < V_; ++s) {
     if (perm[s] >= 0) continue;
     perm[s] = static_cast<std::int32_t>(order_.size());
@@ -165,6 +165,45 @@ void Run::Renumber(const SymmetricAdjacency& adj) {
         order_.push_back(u);
       }
     }
+  }
+}
+
+namespace {
+
+template <class T, class A>
+void TouchPages(std::vector<T, A>& v) {
+  auto* bytes = reinterpret_cast<unsigned char*>(v.data());
+  for (std::size_t at = 0; at < v.size() * sizeof(T); at += 4096) bytes[at] = 0;
+}
+
+}  // namespace
+
+// The renumbered arrays at their final sizes, every page written once (their contents come
+// later): a fresh page's first touch costs microseconds on this project's VMs.
+void Run::PrepareRenumbered(const std::vector<std::uint8_t>& kept) {
+  const auto entries = static_cast<std::size_t>(std::count(kept.begin(), kept.end(), std::uint8_t{1}));
+  y_.resize(2 * static_cast<std::size_t>(V_));
+  w_.resize(V_);
+  nbr_.resize(entries);
+  om_.resize(entries);
+  TouchPages(y_), TouchPages(w_), TouchPages(nbr_), TouchPages(om_);
+}
+
+// The walk is serial: meanwhile a second thread prepares the arrays it will fill (3M scene, 685k
+// nodes: ~100 MB, whose page faults were most of RenumberedAdjacency's 0.08 s).
+void Run::Renumber(const SymmetricAdjacency& adj) {
+  const std::vector<std::uint8_t> kept = KeptEntries(adj);
+  std::vector<std::int32_t> perm(V_, -1);
+  if (opt_.num_threads > 1) {
+#pragma omp parallel sections num_threads(2)
+    {
+#pragma omp section
+      Walk(adj, kept, perm);
+#pragma omp section
+      PrepareRenumbered(kept);
+    }
+  } else {
+    Walk(adj, kept, perm);
   }
   RenumberedAdjacency(adj, kept, perm);
 }
