@@ -25,6 +25,7 @@ struct Piece {
   double lo = 0.0, hi = 1.0;
   int depth = 0;
   std::int32_t id = 0;  // unique among all pieces of the run (the owner_ of its nodes)
+  std::int32_t parent = -1;  // id of the piece whose cut made it (-1: a connected component)
 };
 
 bool SmallerPiece(const Piece& a, const Piece& b) { return a.members.size() < b.members.size(); }
@@ -357,6 +358,14 @@ bool Run::LevelCut(const Piece& g, double t, Workspace& ws) {
   const std::int32_t n = static_cast<std::int32_t>(g.members.size());
   MaxFlow& mf = *ws.mf;
   mf.Reset(n);
+  // A piece made by a cut is cut again at a level close to its parent's, where its unaries nearly
+  // balance and the flow has to cross the piece: the hybrid's BK phase then mostly runs out its
+  // budget before handing over (3M scene: the 405k-node child 0.18 s hybrid, 0.11-0.14 s
+  // pseudoflow first), so under the hybrid a child goes to pseudoflow at once. A connected
+  // component's first cut keeps the hybrid (the 449k one: 0.10 s, pseudoflow 0.12-0.13 s). The
+  // same cuts either way (docs/solvers.md "Fast at scale: stop 40").
+  const bool child = g.parent >= 0 && opt_.max_flow == MaxFlow::Algorithm::kHybrid;
+  mf.set_algorithm(child ? MaxFlow::Algorithm::kPseudoflowThenBk : opt_.max_flow);
   // The network reads the piece's edges in place (SetEdges): no edge list to copy and sort into
   // adjacency, and no second breadth-first order (a piece's members already are in one). At 3M
   // the list's arrays and passes were a quarter of the level-set start (its pages first touched).
@@ -397,7 +406,7 @@ void Run::SideComponents(const Piece& g, double t, Workspace& ws, std::vector<Pi
     if (ws.visited[i0]) continue;
     const std::int32_t s = g.members[i0];
     const char side = side_[s];
-    Piece p{{s}, side ? t : g.lo, side ? g.hi : t, g.depth + 1, -1};
+    Piece p{{s}, side ? t : g.lo, side ? g.hi : t, g.depth + 1, -1, g.id};
     ws.visited[i0] = 1;
     for (std::size_t h = 0; h < p.members.size(); ++h) {
       const std::int32_t v = p.members[h];
