@@ -169,8 +169,10 @@ void GateAndWeigh(const PairCache& pc, const std::vector<float>& node_xyz, doubl
       const double df2 = pc.df2[std::size_t(e)];
       if (!(df2 >= 0.0 && std::sqrt(df2) <= gate)) continue;
       const std::int32_t v = pc.other[std::size_t(e)];
-      double w = options.Lambda() * (sf2 > 0 ? std::exp(-df2 / sf2) : 1.0);
-      if (options.spatial && sx2 > 0) w *= std::exp(-SquaredDistance(node_xyz, std::size_t(u), std::size_t(v)) / sx2);
+      // Both kernels in one exponential (4M edges at 3M: two calls were half the gate's time).
+      double exponent = sf2 > 0 ? -df2 / sf2 : 0.0;
+      if (options.spatial && sx2 > 0) exponent -= SquaredDistance(node_xyz, std::size_t(u), std::size_t(v)) / sx2;
+      const double w = options.Lambda() * std::exp(exponent);
       P.adj_vertices[std::size_t(at)] = v;
       P.edge_weights[std::size_t(at++)] = w;
     }
