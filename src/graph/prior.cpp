@@ -87,14 +87,23 @@ std::vector<double> UpperPosterior(const std::vector<double>& c, const std::vect
     const double log_odds_prior = std::log(pi1) - std::log(1.0 - pi1);
     const double half_log_var[2] = {0.5 * std::log(var[0]), 0.5 * std::log(var[1])};
     // Each node's posterior on its own: parallel, and the same values whatever the thread count.
+    // The logistic in blocks through Eigen's vectorised exp (25 iterations over 685k nodes at 3M:
+    // one glibc exp per node and iteration was most of the prior's time).
     const auto vv = static_cast<std::int64_t>(V);
+    constexpr std::int64_t kBlock = 4096;
 #pragma omp parallel for schedule(static)
-    for (std::int64_t v = 0; v < vv; ++v) {
-      if (!has[std::size_t(v)]) continue;
-      const double x = c[std::size_t(v)];
-      double l[2];
-      for (int k = 0; k < 2; ++k) l[k] = -0.5 * (x - mu[k]) * (x - mu[k]) / var[k] - half_log_var[k];
-      q[std::size_t(v)] = 1.0 / (1.0 + std::exp(-std::clamp(log_odds_prior + l[1] - l[0], -50.0, 50.0)));
+    for (std::int64_t b = 0; b < vv; b += kBlock) {
+      const std::int64_t n = std::min(kBlock, vv - b);
+      Eigen::ArrayXd z(n);
+      for (std::int64_t i = 0; i < n; ++i) {
+        const double x = c[std::size_t(b + i)];
+        double l[2];
+        for (int k = 0; k < 2; ++k) l[k] = -0.5 * (x - mu[k]) * (x - mu[k]) / var[k] - half_log_var[k];
+        z[i] = -std::clamp(log_odds_prior + l[1] - l[0], -50.0, 50.0);
+      }
+      const Eigen::ArrayXd p = 1.0 / (1.0 + z.exp());
+      for (std::int64_t i = 0; i < n; ++i)
+        if (has[std::size_t(b + i)]) q[std::size_t(b + i)] = p[i];
     }
     if (it > 0 && change < 1e-7) break;
   }
