@@ -52,7 +52,8 @@ std::vector<std::int64_t> SceneRowsOf(const std::vector<std::int32_t>& part, std
   std::vector<std::int64_t> rows;
   for (std::size_t u = 0; u < part.size(); ++u)
     if (part[u] == root) rows.push_back(node_ids[u]);
-  std::sort(rows.begin(), rows.end());
+  // Graph nodes are numbered in ascending scene row, so the rows usually arrive sorted.
+  if (!std::is_sorted(rows.begin(), rows.end())) std::sort(rows.begin(), rows.end());
   return rows;
 }
 
