@@ -17,6 +17,7 @@
 #include <span>
 #include <vector>
 
+#include "al/core/default_init_allocator.hpp"
 #include "al/graph/loss.hpp"
 #include "solvers/max_flow/max_flow.hpp"
 
@@ -27,10 +28,14 @@ namespace al::levelset {
 // weights, an entry carries its edge's weight[k] instead of the edge id (edge stays empty): a
 // caller that only needs the weight then reads it beside the neighbour, not at a random edge id.
 struct SymmetricAdjacency {
+  // The entries are sized, then every one written by the build's parallel fill: no serial zero
+  // fill first (default_init_allocator.hpp; 96 MB at 3M: 0.024 s on one thread).
+  template <class T>
+  using Entries = std::vector<T, DefaultInitAllocator<T>>;
   std::vector<std::int64_t> first;
-  std::vector<std::int32_t> nbr;
-  std::vector<std::int64_t> edge;
-  std::vector<double> weight;
+  Entries<std::int32_t> nbr;
+  Entries<std::int64_t> edge;
+  Entries<double> weight;
 };
 SymmetricAdjacency BuildSymmetricAdjacency(std::span<const std::int64_t> first_edge,
                                            std::span<const std::int32_t> adj_vertices,
