@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "al/core/first_touch.hpp"
 #include "src/graph/graph_internal.hpp"
 
 namespace al::graph_internal {
@@ -52,6 +53,7 @@ void ScatterToSmallerEnd(const KnnResult& knn, std::size_t V, std::vector<std::i
     for (auto& counts : at) row += std::exchange(counts[w], std::int32_t(row));
     start[w + 1] = start[w] + row;
   }
+  ReserveFirstTouched(all, std::size_t(start[V]));  // big arrays: pages faulted on all threads (first_touch.hpp)
   all.resize(std::size_t(start[V]));
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
   for (int t = 0; t < parts; ++t)
@@ -80,6 +82,7 @@ PairCache UniquePairs(const KnnResult& knn, std::size_t V) {
     count[u] = std::unique(b, e) - b;
   }
   for (std::size_t u = 0; u < V; ++u) pc.row_start[u + 1] = pc.row_start[u] + count[u];
+  ReserveFirstTouched(pc.other, std::size_t(pc.row_start[V]));
   pc.other.resize(std::size_t(pc.row_start[V]));
 #pragma omp parallel for schedule(static)
   for (std::int64_t u = 0; u < vv; ++u)
@@ -124,6 +127,7 @@ void ComputeRow(PairCache& pc, const RowMatXf& nf, std::int64_t u, std::vector<s
 void PairDistances(PairCache& pc, const RowMatXf& nf, const std::vector<std::uint8_t>& zero_norm,
                    const PairCache* previous, const std::vector<std::int32_t>* old_of) {
   const auto V = static_cast<std::int64_t>(pc.row_start.size()) - 1;
+  ReserveFirstTouched(pc.df2, pc.other.size());
   pc.df2.resize(pc.other.size());
 #pragma omp parallel
   {
@@ -160,6 +164,8 @@ void GateAndWeigh(const PairCache& pc, const std::vector<float>& node_xyz, doubl
   P.first_edge.assign(V + 1, 0);
   for (std::size_t u = 0; u < V; ++u) P.first_edge[u + 1] = P.first_edge[u] + kept[u];
   st.edges_knn = pc.other.size();
+  ReserveFirstTouched(P.adj_vertices, std::size_t(P.first_edge[V]));
+  ReserveFirstTouched(P.edge_weights, std::size_t(P.first_edge[V]));
   P.adj_vertices.resize(std::size_t(P.first_edge[V]));
   P.edge_weights.resize(std::size_t(P.first_edge[V]));
 #pragma omp parallel for schedule(dynamic, 2048)
