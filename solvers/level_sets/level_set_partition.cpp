@@ -218,9 +218,7 @@ void Run::Renumber(const SymmetricAdjacency& adj) {
 // each node's row is written by one thread (rows are independent).
 void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<std::uint8_t>& kept,
                               const std::vector<std::int32_t>& perm) {
-  ff_.assign(static_cast<std::size_t>(V_) + 1, 0);
-  y_.resize(2 * static_cast<std::size_t>(V_));
-  w_.resize(V_);
+  ff_.assign(static_cast<std::size_t>(V_) + 1, 0);  // y_, w_, nbr_ and om_ are sized (SizeRenumbered)
   const int threads = std::max(1, opt_.num_threads);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int32_t i = 0; i < V_; ++i) {
@@ -233,8 +231,6 @@ void Run::RenumberedAdjacency(const SymmetricAdjacency& adj, const std::vector<s
     w_[i] = pb_.node_weights.empty() ? 1.0 : pb_.node_weights[v];
   }
   for (std::int32_t i = 0; i < V_; ++i) ff_[i + 1] += ff_[i];
-  nbr_.resize(ff_[V_]);
-  om_.resize(ff_[V_]);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (std::int32_t i = 0; i < V_; ++i) {
     const std::int32_t v = order_[i];
@@ -551,10 +547,7 @@ Partition Run::Solve(std::vector<MaxFlow>* networks) {
     networks = &own;
   }
   std::vector<Workspace> ws(threads);
-  for (int k = 0; k < threads; ++k) {
-    ws[k].mf = &(*networks)[k];
-    ws[k].mf->set_algorithm(opt_.max_flow);
-  }
+  for (int k = 0; k < threads; ++k) ws[k].mf = &(*networks)[k];  // LevelCut sets each cut's algorithm
   InitialPieces();
   if (threads == 1) {
     Work(ws[0]);

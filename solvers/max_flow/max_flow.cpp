@@ -11,13 +11,12 @@
 #include "solvers/max_flow/max_flow.hpp"
 
 #include "al/core/block_sum.hpp"
+#include "al/core/range_scatter.hpp"
 
 #include <omp.h>
 
 #include <algorithm>
 #include <limits>
-#include <utility>
-#include <vector>
 
 namespace al {
 
@@ -147,30 +146,22 @@ void MaxFlow::Build() {
 
 // The parallel layout applies to edges stored at their smaller end (every refine problem's and
 // level-set piece's): node w's arcs are then the reverse arcs of the edges ending at w, sources
-// ascending, followed by w's own edges, which ranges of sources can fill at once (a range's
-// reverse arcs into w after those of the ranges below it) — the serial fill's order, so the same
+// ascending (RangeScatter), followed by w's own edges: the serial fill's order, so the same
 // network. Inside a parallel region (the level-set workers) it stays serial.
 int MaxFlow::CsrBuildParts() const {
   const CsrEdges& g = *csr_;
-  if (omp_in_parallel() || g.adj.size() < (std::size_t{1} << 16)) return 1;
-  const auto n = static_cast<std::int64_t>(n_);
-  bool smaller_end = true;
-#pragma omp parallel for schedule(static) reduction(&& : smaller_end)
-  for (std::int64_t u = 0; u < n; ++u)
-    for (std::int64_t e = g.first[u]; e < g.first[u + 1]; ++e) smaller_end = smaller_end && g.adj[e] > u;
-  return smaller_end ? std::clamp(omp_get_max_threads(), 1, 8) : 1;
+  if (omp_in_parallel() || g.adj.size() < (std::size_t{1} << 16) || !StoredAtSmallerEnd(g.first, g.adj)) return 1;
+  return RangeScatter::DefaultParts();
 }
 
 void MaxFlow::BuildFromCsrParallel(int parts) {
   const std::int32_t n = n_;
   const CsrEdges& g = *csr_;
-  auto range = [&](int t) {
-    return std::pair{std::int32_t(std::int64_t(n) * t / parts), std::int32_t(std::int64_t(n) * (t + 1) / parts)};
-  };
-  std::vector<std::vector<std::int32_t>> at(std::size_t(parts), std::vector<std::int32_t>(std::size_t(n), 0));
+  RangeScatter scatter(n, std::size_t(n), parts);
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
   for (int t = 0; t < parts; ++t)
-    for (std::int64_t e = g.first[range(t).first]; e < g.first[range(t).second]; ++e) ++at[std::size_t(t)][g.adj[e]];
+    for (std::int64_t e = g.first[scatter.Range(t).first]; e < g.first[scatter.Range(t).second]; ++e)
+      scatter.Count(t, std::size_t(g.adj[e]));
   nodes_.resize(static_cast<std::size_t>(n) + 1);
   perm_.resize(n);
   std::int32_t pos = 0;
@@ -178,25 +169,21 @@ void MaxFlow::BuildFromCsrParallel(int parts) {
     perm_[w] = w;
     nodes_[w].tr = user_tr_[w];
     nodes_[w].first = pos;
-    std::int32_t reverse = 0;  // at[t][w] becomes range t's offset among w's reverse arcs
-    for (auto& counts : at) reverse += std::exchange(counts[std::size_t(w)], reverse);
-    pos += reverse + static_cast<std::int32_t>(g.first[w + 1] - g.first[w]);
+    pos += static_cast<std::int32_t>(scatter.Total(std::size_t(w)) + (g.first[w + 1] - g.first[w]));
   }
   nodes_[n].first = pos;
   arcs_.resize(static_cast<std::size_t>(pos));
 #pragma omp parallel for schedule(static, 1) num_threads(parts)
-  for (int t = 0; t < parts; ++t) {
-    std::vector<std::int32_t>& offset = at[std::size_t(t)];
-    for (std::int32_t u = range(t).first; u < range(t).second; ++u) {
+  for (int t = 0; t < parts; ++t)
+    for (auto u = static_cast<std::int32_t>(scatter.Range(t).first); u < scatter.Range(t).second; ++u) {
       std::int32_t own = nodes_[u + 1].first - static_cast<std::int32_t>(g.first[u + 1] - g.first[u]);
       for (std::int64_t e = g.first[u]; e < g.first[u + 1]; ++e) {
         const std::int32_t v = g.adj[e];
-        const std::int32_t i = own++, j = nodes_[v].first + offset[std::size_t(v)]++;
+        const std::int32_t i = own++, j = nodes_[v].first + scatter.Next(t, std::size_t(v));
         arcs_[i] = {v, j, g.forward[e]};
         arcs_[j] = {u, i, g.reverse[e]};
       }
     }
-  }
 }
 
 void MaxFlow::BuildFromCsr() {

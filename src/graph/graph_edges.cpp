@@ -1,13 +1,11 @@
 // The graph's edges from its kNN lists (SPEC §4.4-4.6): unique pairs at the smaller node, their
 // feature distances (reused across growth rounds), the gate and the weights. Parallel loops write
 // per-node slots only; counts are summed in node order: thread-count independent.
-#include <omp.h>
-
 #include <algorithm>
 #include <cmath>
-#include <utility>
 
 #include "al/core/first_touch.hpp"
+#include "al/core/range_scatter.hpp"
 #include "src/graph/graph_internal.hpp"
 
 namespace al::graph_internal {
@@ -33,36 +31,28 @@ double Cached(const PairCache& previous, std::int32_t a, std::int32_t b) {
 }
 
 // The kNN entries scattered to the row of their smaller end (each row's entries unsorted, with
-// repeats) in `all`, rows starting at `start`. Ranges of rows u are scattered in parallel; a
-// range's entries into row w follow those of the ranges below it (per-range counts give offsets).
+// repeats) in `all`, rows starting at `start`, by ranges of rows on all threads (RangeScatter).
 void ScatterToSmallerEnd(const KnnResult& knn, std::size_t V, std::vector<std::int64_t>& start,
                          std::vector<std::int32_t>& all) {
   const int K = knn.k;
-  const int parts = std::clamp(omp_get_max_threads(), 1, 8);
-  auto range = [&](int t) { return std::pair{V * std::size_t(t) / std::size_t(parts), V * std::size_t(t + 1) / std::size_t(parts)}; };
-  std::vector<std::vector<std::int32_t>> at(std::size_t(parts), std::vector<std::int32_t>(V, 0));
-#pragma omp parallel for schedule(static, 1) num_threads(parts)
-  for (int t = 0; t < parts; ++t)
-    for (std::size_t u = range(t).first; u < range(t).second; ++u)
+  RangeScatter scatter(std::int64_t(V), V, RangeScatter::DefaultParts());
+  // Each kNN entry (u, v) of range t's rows, as (its row, the other end).
+  auto for_each_entry = [&](int t, const auto& f) {
+    const auto [u0, u1] = scatter.Range(t);
+    for (auto u = std::size_t(u0); u < std::size_t(u1); ++u)
       for (int c = 0; c < K; ++c)
         if (const std::int32_t v = knn.neighbors[u * std::size_t(K) + std::size_t(c)]; v >= 0)
-          ++at[std::size_t(t)][std::min<std::size_t>(u, std::size_t(v))];
+          f(std::min<std::size_t>(u, std::size_t(v)), std::int32_t(std::max<std::size_t>(u, std::size_t(v))));
+  };
+#pragma omp parallel for schedule(static, 1) num_threads(scatter.parts())
+  for (int t = 0; t < scatter.parts(); ++t) for_each_entry(t, [&](std::size_t w, std::int32_t) { scatter.Count(t, w); });
   start.assign(V + 1, 0);
-  for (std::size_t w = 0; w < V; ++w) {
-    std::int64_t row = 0;
-    for (auto& counts : at) row += std::exchange(counts[w], std::int32_t(row));
-    start[w + 1] = start[w] + row;
-  }
+  for (std::size_t w = 0; w < V; ++w) start[w + 1] = start[w] + scatter.Total(w);
   ReserveFirstTouched(all, std::size_t(start[V]));  // big arrays: pages faulted on all threads (first_touch.hpp)
   all.resize(std::size_t(start[V]));
-#pragma omp parallel for schedule(static, 1) num_threads(parts)
-  for (int t = 0; t < parts; ++t)
-    for (std::size_t u = range(t).first; u < range(t).second; ++u)
-      for (int c = 0; c < K; ++c)
-        if (const std::int32_t v = knn.neighbors[u * std::size_t(K) + std::size_t(c)]; v >= 0) {
-          const std::size_t w = std::min<std::size_t>(u, std::size_t(v));
-          all[std::size_t(start[w] + at[std::size_t(t)][w]++)] = std::int32_t(std::max<std::size_t>(u, std::size_t(v)));
-        }
+#pragma omp parallel for schedule(static, 1) num_threads(scatter.parts())
+  for (int t = 0; t < scatter.parts(); ++t)
+    for_each_entry(t, [&](std::size_t w, std::int32_t other) { all[std::size_t(start[w] + scatter.Next(t, w))] = other; });
 }
 
 }  // namespace

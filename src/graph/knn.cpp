@@ -111,10 +111,11 @@ class MappedResults : public flann::ResultSet<float> {
 class ExactForest {
  public:
   // xyz must outlive the forest.
-  // Each half holds its points in `order` (the Morton order of all points): its tree's build then
-  // partitions points that lie near one another in memory as well as in space (3M scene, 685k
-  // points: build 0.068 -> 0.047 s; the same lists, which never depend on the trees' shape).
-  ExactForest(std::span<const float> xyz, std::span<const std::int32_t> order) {
+  // Each half holds its points in `order` (the Morton order of all points; empty: index order):
+  // its tree's build then partitions points that lie near one another in memory as well as in
+  // space (3M scene, 685k points: build 0.068 -> 0.047 s; the same lists, which never depend on
+  // the trees' shape).
+  explicit ExactForest(std::span<const float> xyz, std::span<const std::int32_t> order = {}) {
     const std::size_t n = xyz.size() / 3, halves = n >= kSplitFrom ? 2 : 1;
     std::vector<std::int32_t> ids(n);
     for (std::size_t i = 0; i < n; ++i) ids[i] = std::int32_t(i);
@@ -122,6 +123,8 @@ class ExactForest {
     std::vector<std::uint8_t> half_of(n, 0);
     for (std::size_t t = n / halves; t < n; ++t) half_of[std::size_t(ids[t])] = 1;
     for (std::size_t h = 0; h < halves; ++h) parts_[h].ids.reserve(n / halves + 1);
+    if (order.empty())
+      for (std::size_t i = 0; i < n; ++i) parts_[half_of[i]].ids.push_back(std::int32_t(i));
     for (const std::int32_t i : order) parts_[half_of[std::size_t(i)]].ids.push_back(i);
 #pragma omp parallel for schedule(static, 1) if (halves > 1)
     for (std::size_t h = 0; h < halves; ++h) {
@@ -522,9 +525,7 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
     }
   std::size_t retries = 0;
   AddedIntoOldLists(xyz, new_of_old, added, r, retries);
-  std::vector<std::int32_t> scene_order(n);
-  for (std::size_t i = 0; i < n; ++i) scene_order[i] = std::int32_t(i);
-  const ExactForest index(xyz, scene_order);
+  const ExactForest index(xyz);
   const flann::SearchParams params = ExactSearch();
   // The added points' own lists (few: a list buffer per query costs nothing here).
   const auto m = static_cast<std::int64_t>(added.size());
