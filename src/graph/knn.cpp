@@ -15,6 +15,7 @@
 
 #include "al/core/first_touch.hpp"
 #include "al/core/timer.hpp"
+#include "point_tree.hpp"
 
 namespace al {
 namespace {
@@ -28,13 +29,6 @@ std::uint64_t Spread3(std::uint64_t v) {  // 21 bits -> every third bit
   v = (v | v << 2) & 0x1249249249249249ULL;
   return v;
 }
-
-// FLANN's exact kd-tree. L2_3D is L2_Simple unrolled for three coordinates: the same float sums in
-// the same order, without the loop.
-using ExactTree = flann::KDTreeSingleIndex<flann::L2_3D<float>>;
-// Points per leaf of the exact trees: any size gives the same lists; the kNN stage of the 3M scene
-// (685k points, k = 10) took 0.70 / 0.62 / 0.595 / 0.587 / 0.61 s with 4 / 10 / 16 / 24 / 32.
-constexpr std::size_t kExactLeafSize = 16;
 
 // (63-bit Morton code, point index), sorted: the points along a Z-order curve over their box.
 using MortonCodes = std::vector<std::pair<std::uint64_t, std::int32_t>>;
@@ -90,98 +84,6 @@ double BoxDistance(const float* p, const float* lo, const float* hi) {
   return s;
 }
 
-// A result set that stores a part's local indices as the whole set's.
-class MappedResults : public flann::ResultSet<float> {
- public:
-  MappedResults(flann::ResultSet<float>& to, const std::int32_t* ids) : to_(to), ids_(ids) {}
-  bool full() const override { return to_.full(); }
-  void addPoint(float dist, std::size_t index) override { to_.addPoint(dist, std::size_t(ids_[index])); }
-  float worstDist() const override { return to_.worstDist(); }
-
- private:
-  flann::ResultSet<float>& to_;
-  const std::int32_t* ids_;
-};
-
-// FLANN's exact tree over each half of a point set (split at the median of its longest axis), the
-// halves built at the same time (FLANN builds a tree on one thread: a fifth of the kNN stage at
-// 600k points). A query searches the half whose box is nearer, then the other one unless its box
-// is farther than the k-th found (FLANN's float distances against the box's double bound, with a
-// rounding margin), into one result set: the neighbours of one tree over all points.
-class ExactForest {
- public:
-  // xyz must outlive the forest.
-  // Each half holds its points in `order` (the Morton order of all points; empty: index order):
-  // its tree's build then partitions points that lie near one another in memory as well as in
-  // space (3M scene, 685k points: build 0.068 -> 0.047 s; the same lists, which never depend on
-  // the trees' shape).
-  explicit ExactForest(std::span<const float> xyz, std::span<const std::int32_t> order = {}) {
-    const std::size_t n = xyz.size() / 3, halves = n >= kSplitFrom ? 2 : 1;
-    std::vector<std::int32_t> ids(n);
-    for (std::size_t i = 0; i < n; ++i) ids[i] = std::int32_t(i);
-    if (halves > 1) SplitAtMedian(xyz, ids);
-    std::vector<std::uint8_t> half_of(n, 0);
-    for (std::size_t t = n / halves; t < n; ++t) half_of[std::size_t(ids[t])] = 1;
-    for (std::size_t h = 0; h < halves; ++h) parts_[h].ids.reserve(n / halves + 1);
-    if (order.empty())
-      for (std::size_t i = 0; i < n; ++i) parts_[half_of[i]].ids.push_back(std::int32_t(i));
-    for (const std::int32_t i : order) parts_[half_of[std::size_t(i)]].ids.push_back(i);
-#pragma omp parallel for schedule(static, 1) if (halves > 1)
-    for (std::size_t h = 0; h < halves; ++h) {
-      Part& part = parts_[h];
-      part.pts.resize(3 * part.ids.size());
-      for (int a = 0; a < 3; ++a) part.lo[a] = std::numeric_limits<float>::infinity(), part.hi[a] = -part.lo[a];
-      for (std::size_t t = 0; t < part.ids.size(); ++t)
-        for (int a = 0; a < 3; ++a) {
-          const float x = xyz[3 * std::size_t(part.ids[t]) + std::size_t(a)];
-          part.pts[3 * t + std::size_t(a)] = x;
-          part.lo[a] = std::min(part.lo[a], x), part.hi[a] = std::max(part.hi[a], x);
-        }
-      if (part.ids.empty()) continue;
-      part.tree = std::make_unique<ExactTree>(flann::Matrix<float>(part.pts.data(), part.ids.size(), 3),
-                                              flann::KDTreeSingleIndexParams(kExactLeafSize));
-      part.tree->buildIndex();
-    }
-  }
-
-  void findNeighbors(flann::ResultSet<float>& rs, const float* q, const flann::SearchParams& params) const {
-    double box[2];
-    for (int h = 0; h < 2; ++h)
-      box[h] = parts_[h].tree ? BoxDistance(q, parts_[h].lo, parts_[h].hi) : std::numeric_limits<double>::infinity();
-    const int first = box[1] < box[0] ? 1 : 0;
-    for (const int h : {first, 1 - first}) {
-      if (!parts_[h].tree) continue;
-      if (h != first && box[h] > double(rs.worstDist()) * (1.0 + 1e-5) + 1e-30) continue;
-      MappedResults mapped(rs, parts_[h].ids.data());
-      parts_[h].tree->findNeighbors(mapped, q, params);
-    }
-  }
-
- private:
-  static constexpr std::size_t kSplitFrom = 65536;  // smaller sets: one tree
-  // ids[0, n/2) below the median of the longest axis of the box, the rest above (ties by index).
-  static void SplitAtMedian(std::span<const float> xyz, std::vector<std::int32_t>& ids) {
-    float lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) lo[a] = std::numeric_limits<float>::infinity(), hi[a] = -lo[a];
-    for (std::size_t i = 0; i < ids.size(); ++i)
-      for (int a = 0; a < 3; ++a) lo[a] = std::min(lo[a], xyz[3 * i + a]), hi[a] = std::max(hi[a], xyz[3 * i + a]);
-    int axis = 0;
-    for (int a = 1; a < 3; ++a)
-      if (double(hi[a]) - lo[a] > double(hi[axis]) - lo[axis]) axis = a;
-    std::nth_element(ids.begin(), ids.begin() + std::ptrdiff_t(ids.size() / 2), ids.end(), [&](std::int32_t x, std::int32_t y) {
-      const float vx = xyz[3 * std::size_t(x) + axis], vy = xyz[3 * std::size_t(y) + axis];
-      return vx < vy || (vx == vy && x < y);
-    });
-  }
-  struct Part {
-    std::vector<std::int32_t> ids;
-    std::vector<float> pts;
-    float lo[3], hi[3];
-    std::unique_ptr<ExactTree> tree;
-  };
-  std::array<Part, 2> parts_;
-};
-
 // One thread's buffers for its queries: a result set and two lists per query cost as much in
 // allocations as a 3-D search.
 struct QueryScratch {
@@ -190,6 +92,7 @@ struct QueryScratch {
   std::vector<std::size_t> idx;
   std::vector<float> dist;
   std::vector<Entry> out;
+  std::vector<TreeNeighbor> found;
 };
 
 // The m nearest points of q in the index (fewer when it holds fewer) into s.idx / s.dist,
@@ -208,6 +111,16 @@ std::size_t Search(const Index& index, const float* q, std::size_t m, const flan
   s.idx.resize(got);
   s.dist.resize(got);
   if (got > 0) s.rs->copy(s.idx.data(), s.dist.data(), got);
+  return got;
+}
+
+// The same from the exact tree, whose lists already hold ties in index order.
+std::size_t Search(const PointTree& tree, const float* q, std::size_t m, const flann::SearchParams&, QueryScratch& s) {
+  tree.Nearest(q, m, -1, s.found);
+  const std::size_t got = s.found.size();
+  s.idx.resize(got);
+  s.dist.resize(got);
+  for (std::size_t t = 0; t < got; ++t) s.idx[t] = std::size_t(s.found[t].i), s.dist[t] = s.found[t].d;
   return got;
 }
 
@@ -350,6 +263,92 @@ void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g
   }
 }
 
+// Piles of up to this many coincident points are searched as they are: a query in a pile of p
+// scans the p - 1 others at distance 0 (the lists are the same), while one query per position
+// costs every query a longer list and an expansion (3M room scene, 58 points in piles of 2:
+// kNN 0.47 -> 0.39 s).
+constexpr std::size_t kSmallPile = 8;
+
+std::size_t LargestGroup(const Groups& g) {
+  std::size_t largest = 0;
+  for (std::size_t u = 0; u + 1 < g.begin.size(); ++u) largest = std::max(largest, std::size_t(g.begin[u + 1] - g.begin[u]));
+  return largest;
+}
+
+// KnnAmongPoints when some points coincide: queries and trees over the unique positions.
+void KnnAmongUnique(std::span<const float> xyz, const MortonCodes& codes, const Groups& groups, int checks,
+                    KnnResult& result) {
+  std::vector<float> uxyz(3 * groups.rep.size());
+  for (std::size_t u = 0; u < groups.rep.size(); ++u) std::copy_n(&xyz[3 * std::size_t(groups.rep[u])], 3, &uxyz[3 * u]);
+  std::vector<std::int32_t> order;  // the unique points in Morton order (their first members')
+  order.reserve(groups.rep.size());
+  for (const auto& [code, i] : codes)
+    if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
+  std::size_t retries = 0;
+  if (checks <= 0) {
+    const PointTree tree(uxyz);
+    KnnGrouped(tree, uxyz, groups, tree.order(), result.k, flann::SearchParams(), result, retries);
+  } else {
+    flann::seed_random(12345);
+    flann::Matrix<float> udata(uxyz.data(), groups.rep.size(), 3);
+    flann::KDTreeIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeIndexParams(4));
+    index.buildIndex();
+    KnnGrouped(index, uxyz, groups, order, result.k, flann::SearchParams(checks, 0.0f, false), result, retries);
+  }
+  result.tie_retries = retries;
+}
+
+// Distinct points (or small piles), exact: one descent per point, queries in the tree's leaf
+// order. (Seeding a query with the previous one and its list, to prune from the first leaf on,
+// scanned 2 % fewer leaves and took 20 % longer.)
+void KnnExact(std::span<const float> xyz, KnnResult& result) {
+  const PointTree tree(xyz);
+  const std::vector<std::int32_t>& order = tree.order();
+  const int k = result.k;
+  const auto n = static_cast<std::int64_t>(order.size());
+#pragma omp parallel
+  {
+    std::vector<TreeNeighbor> found;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::int64_t t = 0; t < n; ++t) {
+      const std::int32_t i = order[std::size_t(t)];
+      tree.Nearest(&xyz[3 * std::size_t(i)], std::size_t(k), i, found);
+      for (std::size_t c = 0; c < found.size(); ++c) {
+        result.neighbors[std::size_t(i) * k + c] = found[c].i;
+        result.sq_dist[std::size_t(i) * k + c] = found[c].d;
+      }
+    }
+  }
+}
+
+// Distinct points, FLANN's randomized trees (fixed seed: reproducible), queries in Morton order.
+void KnnApproximate(std::span<const float> xyz, const MortonCodes& codes, int checks, KnnResult& result) {
+  const std::size_t n = xyz.size() / 3;
+  const int k = result.k;
+  flann::seed_random(12345);
+  // FLANN's Matrix takes a non-const pointer but the index does not write the data.
+  flann::Matrix<float> data(const_cast<float*>(xyz.data()), n, 3);
+  flann::KDTreeIndex<flann::L2_Simple<float>> index(data, flann::KDTreeIndexParams(4));
+  index.buildIndex();
+  const flann::SearchParams params(checks, 0.0f, false);
+  std::size_t retries = 0;
+  const auto nn = static_cast<std::int64_t>(n);
+#pragma omp parallel reduction(+ : retries)
+  {
+    QueryScratch s;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::int64_t t = 0; t < nn; ++t) {
+      const std::int32_t i = codes[std::size_t(t)].second;
+      Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, s, retries);
+      for (std::size_t c = 0; c < s.out.size(); ++c) {
+        result.neighbors[std::size_t(i) * k + c] = s.out[c].i;
+        result.sq_dist[std::size_t(i) * k + c] = s.out[c].d;
+      }
+    }
+  }
+  result.tie_retries = retries;
+}
+
 }  // namespace
 
 std::vector<std::int32_t> MortonOrder(std::span<const float> xyz) {
@@ -381,84 +380,24 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
   }
   const MortonCodes codes = SortedMortonCodes(xyz);
   const Groups groups = GroupCoincident(xyz, codes);
-  if (!groups.rep.empty()) {
-    result.coincident = n - groups.rep.size();
-    std::vector<float> uxyz(3 * groups.rep.size());
-    for (std::size_t u = 0; u < groups.rep.size(); ++u)
-      std::copy_n(&xyz[3 * std::size_t(groups.rep[u])], 3, &uxyz[3 * u]);
-    flann::Matrix<float> udata(uxyz.data(), groups.rep.size(), 3);
-    std::vector<std::int32_t> order;  // the unique points in Morton order (their first members')
-    order.reserve(groups.rep.size());
-    for (const auto& [code, i] : codes)
-      if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
-    std::size_t retries = 0;
-    if (options.checks <= 0) {
-      const ExactForest index(uxyz, order);
-      KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false), result, retries);
-    } else {
-      flann::seed_random(12345);
-      flann::KDTreeIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeIndexParams(4));
-      index.buildIndex();
-      KnnGrouped(index, uxyz, groups, order, k, flann::SearchParams(options.checks, 0.0f, false), result, retries);
-    }
-    result.tie_retries = retries;
-    result.seconds = timer.Seconds();
-    return result;
-  }
-  // FLANN's Matrix takes a non-const pointer but the index does not write the data.
-  flann::Matrix<float> data(const_cast<float*>(xyz.data()), n, 3);
-  std::vector<std::int32_t> order(n);
-  for (std::size_t t = 0; t < n; ++t) order[t] = codes[t].second;
-  std::size_t retries = 0;
-  auto run = [&](const auto& index, const flann::SearchParams& params) {
-    const auto nn = static_cast<std::int64_t>(n);
-#pragma omp parallel reduction(+ : retries)
-    {
-      QueryScratch s;
-#pragma omp for schedule(dynamic, 1024)
-      for (std::int64_t t = 0; t < nn; ++t) {
-        const std::int32_t i = order[t];
-        Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, s, retries);
-        for (std::size_t c = 0; c < s.out.size(); ++c) {
-          result.neighbors[std::size_t(i) * k + c] = s.out[c].i;
-          result.sq_dist[std::size_t(i) * k + c] = s.out[c].d;
-        }
-      }
-    }
-  };
-  if (options.checks <= 0) {
-    const ExactForest index(xyz, order);
-    flann::SearchParams params(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false);
-    run(index, params);
-  } else {
-    flann::seed_random(12345);  // randomized trees: fixed seed, reproducible
-    flann::KDTreeIndex<flann::L2_Simple<float>> index(data, flann::KDTreeIndexParams(4));
-    index.buildIndex();
-    flann::SearchParams params(options.checks, 0.0f, false);
-    run(index, params);
-  }
-  result.tie_retries = retries;
+  if (!groups.rep.empty()) result.coincident = n - groups.rep.size();
+  if (!groups.rep.empty() && (options.checks > 0 || LargestGroup(groups) > kSmallPile))
+    KnnAmongUnique(xyz, codes, groups, options.checks, result);
+  else if (options.checks <= 0)
+    KnnExact(xyz, result);
+  else
+    KnnApproximate(xyz, codes, options.checks, result);
   result.seconds = timer.Seconds();
   return result;
 }
 
-
 namespace {
 
-// FLANN's exact kd-tree over n points (the data must outlive it), built on construction.
-struct ExactIndex : ExactTree {
-  ExactIndex(float* data, std::size_t n)
-      : ExactTree(flann::Matrix<float>(data, n, 3), flann::KDTreeSingleIndexParams(kExactLeafSize)) {
-    buildIndex();
-  }
-};
-flann::SearchParams ExactSearch() { return flann::SearchParams(flann::FLANN_CHECKS_UNLIMITED, 0.0f, false); }
-
 // The k smallest (distance, index) entries of a row and a sorted candidate list.
-void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<Entry>& extra) {
+void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<TreeNeighbor>& extra) {
   for (int c = 0; c < k; ++c)
     if (nb[c] >= 0) extra.push_back({sd[c], nb[c]});
-  std::sort(extra.begin(), extra.end(), [](const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+  std::sort(extra.begin(), extra.end(), [](const TreeNeighbor& a, const TreeNeighbor& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
   for (int c = 0; c < k; ++c) {
     nb[c] = c < int(extra.size()) ? extra[std::size_t(c)].i : -1;
     sd[c] = c < int(extra.size()) ? extra[std::size_t(c)].d : 0.0f;
@@ -467,7 +406,7 @@ void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<Entry>& extra) {
 
 // The old points' lists: a point whose k-th neighbour is farther than some added point takes it in.
 void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t> new_of_old,
-                       std::span<const std::int32_t> added, KnnResult& r, std::size_t& retries) {
+                       std::span<const std::int32_t> added, KnnResult& r) {
   const int k = r.k;
   const std::size_t m = added.size();
   std::vector<float> axyz(3 * m);
@@ -478,23 +417,22 @@ void AddedIntoOldLists(std::span<const float> xyz, std::span<const std::int32_t>
       axyz[3 * t + a] = xyz[3 * std::size_t(added[t]) + a];
       lo[a] = std::min(lo[a], axyz[3 * t + a]), hi[a] = std::max(hi[a], axyz[3 * t + a]);
     }
-  const ExactIndex index(axyz.data(), m);
-  const flann::SearchParams params = ExactSearch();
+  const PointTree tree(axyz);
   const auto n_old = static_cast<std::int64_t>(new_of_old.size());
-#pragma omp parallel reduction(+ : retries)
+#pragma omp parallel
   {
-    QueryScratch s;
+    std::vector<TreeNeighbor> found;
 #pragma omp for schedule(dynamic, 4096)
     for (std::int64_t u = 0; u < n_old; ++u) {
       const std::size_t row = std::size_t(new_of_old[std::size_t(u)]);
       const float* q = &xyz[3 * row];
       std::int32_t* nb = &r.neighbors[row * k];
       float* sd = &r.sq_dist[row * k];
-      // Rounding margin: FLANN's float distances against the box's double bound.
+      // Rounding margin: float distances against the box's double bound.
       if (nb[k - 1] >= 0 && BoxDistance(q, lo, hi) > double(sd[k - 1]) * (1.0 + 1e-5) + 1e-30) continue;
-      Query(index, q, -1, k, m, params, s, retries);
-      for (Entry& e : s.out) e.i = added[std::size_t(e.i)];
-      MergeInto(nb, sd, k, s.out);
+      tree.Nearest(q, std::size_t(k), -1, found);
+      for (TreeNeighbor& e : found) e.i = added[std::size_t(e.i)];
+      MergeInto(nb, sd, k, found);
     }
   }
 }
@@ -523,26 +461,24 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
       r.neighbors[std::size_t(new_of_old[std::size_t(u)]) * k + c] = v >= 0 ? new_of_old[std::size_t(v)] : -1;
       r.sq_dist[std::size_t(new_of_old[std::size_t(u)]) * k + c] = before.sq_dist[std::size_t(u) * k + c];
     }
-  std::size_t retries = 0;
-  AddedIntoOldLists(xyz, new_of_old, added, r, retries);
-  const ExactForest index(xyz);
-  const flann::SearchParams params = ExactSearch();
-  // The added points' own lists (few: a list buffer per query costs nothing here).
+  AddedIntoOldLists(xyz, new_of_old, added, r);
+  const PointTree tree(xyz);
+  // The added points' own lists.
   const auto m = static_cast<std::int64_t>(added.size());
-#pragma omp parallel reduction(+ : retries)
+#pragma omp parallel
   {
-    QueryScratch s;
+    std::vector<TreeNeighbor> found;
 #pragma omp for schedule(dynamic, 256)
     for (std::int64_t t = 0; t < m; ++t) {
       const std::int32_t i = added[std::size_t(t)];
-      Query(index, &xyz[3 * std::size_t(i)], i, k, n, params, s, retries);
-      for (std::size_t c = 0; c < s.out.size(); ++c) {
-        r.neighbors[std::size_t(i) * k + c] = s.out[c].i;
-        r.sq_dist[std::size_t(i) * k + c] = s.out[c].d;
+      tree.Nearest(&xyz[3 * std::size_t(i)], std::size_t(k), i, found);
+      for (std::size_t c = 0; c < found.size(); ++c) {
+        r.neighbors[std::size_t(i) * k + c] = found[c].i;
+        r.sq_dist[std::size_t(i) * k + c] = found[c].d;
       }
     }
   }
-  r.tie_retries = before.tie_retries + retries;
+  r.tie_retries = before.tie_retries;
   r.coincident = before.coincident;
   r.seconds = timer.Seconds();
   return r;

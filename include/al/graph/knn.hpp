@@ -1,12 +1,14 @@
-// k nearest neighbours among a point set (SPEC §4.3) with FLANN. Exact by default
-// (KDTreeSingleIndex); checks > 0 selects FLANN's randomized kd-trees with that many leaf checks
-// (approximate). The query point is excluded by index, not by distance (duplicates are neighbours
-// at distance 0); equal distances are broken by the smaller point index — more neighbours are
-// requested until the k-th is no longer tied with the last returned one, so the answer does not
-// depend on the tree's traversal order. Queries run in Morton order (cache locality), OpenMP over
-// blocks; the result is independent of the thread count. Exactly coincident points are grouped
-// first (one query per position, O(k) per point): the answer is the same, but a pile of 100k
-// duplicates no longer makes the tie rule look at the whole pile for every query.
+// k nearest neighbours among a point set (SPEC §4.3). Exact by default: al's 3-D kd-tree
+// (src/graph/point_tree.hpp), whose lists are ordered by (float squared distance, index) in one
+// descent and equal FLANN's exact KDTreeSingleIndex with the tie rule below (the tests compare
+// both with brute force); checks > 0 selects FLANN's randomized kd-trees with that many leaf
+// checks (approximate), where more neighbours are requested until the k-th is no longer tied with
+// the last returned one. The query point is excluded by index, not by distance (duplicates are
+// neighbours at distance 0); equal distances are broken by the smaller point index, so the
+// answer does not depend on the tree. OpenMP over blocks of queries in a spatial order; the
+// result is independent of the thread count. Piles of more than 8 exactly coincident points are
+// grouped first (one query per position, O(k) per point): the answer is the same, but a pile of
+// 100k duplicates no longer makes every query look at the whole pile.
 #pragma once
 #include <cstdint>
 #include <span>
@@ -23,8 +25,9 @@ struct KnnOptions {
 struct KnnResult {
   int k = 0;                             // row stride
   std::vector<std::int32_t> neighbors;   // n*k, ascending (squared distance, index); -1 = none
-  std::vector<float> sq_dist;            // n*k, FLANN's float squared distances
-  std::size_t tie_retries = 0;           // queries re-run because of a tie at the boundary
+  std::vector<float> sq_dist;            // n*k, float squared distances (FLANN L2_3D's sums)
+  std::size_t tie_retries = 0;           // queries re-run because of a tie at the boundary (grouped
+                                         // or approximate search; the exact tree needs none)
   std::size_t coincident = 0;            // points at exactly the position of an earlier point
   double seconds = 0.0;
 };
