@@ -30,7 +30,7 @@ class SphereTree {
     // The subtrees of a node own disjoint node and member ranges, so they are built as parallel tasks.
 #pragma omp parallel if (members_.size() > kParallelBuild)
 #pragma omp single
-    Build(0, members_.size(), 0);
+    Build(0, members_.size(), 0, Bounds(0, members_.size()));
   }
 
   bool empty() const { return members_.empty(); }
@@ -99,25 +99,37 @@ class SphereTree {
     return n;
   }
 
-  void Build(std::size_t begin, std::size_t end, std::size_t id) {
-    Node n = Bounds(begin, end);
-    if (end - begin > kLeaf) {
-      int axis = 0;
-      for (int a = 1; a < 3; ++a)
-        if (n.hi[a] - n.lo[a] > n.hi[axis] - n.lo[axis]) axis = a;
-      const std::size_t mid = begin + (end - begin) / 2;
-      // Ties by id keep the tree (and so the traversal) a function of the set alone.
-      std::nth_element(members_.begin() + std::ptrdiff_t(begin), members_.begin() + std::ptrdiff_t(mid),
-                       members_.begin() + std::ptrdiff_t(end), [axis](const Member& x, const Member& y) {
-                         return x.xyz[axis] < y.xyz[axis] || (x.xyz[axis] == y.xyz[axis] && x.id < y.id);
-                       });
-      n.left = static_cast<std::int32_t>(id + 1);
-      n.right = static_cast<std::int32_t>(id + 1 + NodeCount(mid - begin));
-#pragma omp task if (end - begin > kParallelBuild)
-      Build(begin, mid, std::size_t(n.left));
-      Build(mid, end, std::size_t(n.right));
-#pragma omp taskwait
+  // Split at the median of the longest axis of `region`: the parent's region cut at the parent's
+  // median, which picks the axis without a pass over the members. The node's tight box and largest
+  // radius are its children's, joined once they are built (3M room scene, 601k seeds: build
+  // 0.085 -> 0.068 s, where every level took a bounds pass before its split).
+  void Build(std::size_t begin, std::size_t end, std::size_t id, Node region) {
+    if (end - begin <= kLeaf) {
+      nodes_[id] = Bounds(begin, end);
+      return;
     }
+    int axis = 0;
+    for (int a = 1; a < 3; ++a)
+      if (region.hi[a] - region.lo[a] > region.hi[axis] - region.lo[axis]) axis = a;
+    const std::size_t mid = begin + (end - begin) / 2;
+    // Ties by id keep the tree (and so the traversal) a function of the set alone.
+    std::nth_element(members_.begin() + std::ptrdiff_t(begin), members_.begin() + std::ptrdiff_t(mid),
+                     members_.begin() + std::ptrdiff_t(end), [axis](const Member& x, const Member& y) {
+                       return x.xyz[axis] < y.xyz[axis] || (x.xyz[axis] == y.xyz[axis] && x.id < y.id);
+                     });
+    const std::size_t left = id + 1, right = id + 1 + NodeCount(mid - begin);
+    Node left_region = region, right_region = region;
+    left_region.hi[axis] = right_region.lo[axis] = members_[mid].xyz[axis];
+#pragma omp task if (end - begin > kParallelBuild)
+    Build(begin, mid, left, left_region);
+    Build(mid, end, right, right_region);
+#pragma omp taskwait
+    Node n = nodes_[left];
+    const Node& r = nodes_[right];
+    for (int a = 0; a < 3; ++a) n.lo[a] = std::min(n.lo[a], r.lo[a]), n.hi[a] = std::max(n.hi[a], r.hi[a]);
+    n.max_r = std::max(n.max_r, r.max_r);
+    n.begin = std::uint32_t(begin), n.end = std::uint32_t(end);
+    n.left = std::int32_t(left), n.right = std::int32_t(right);
     nodes_[id] = n;
   }
 
