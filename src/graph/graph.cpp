@@ -94,6 +94,7 @@ RowMatXf NodeFeatures(const SceneFeatureMap& map, const std::vector<std::int64_t
                       std::vector<std::uint8_t>& zero_norm) {
   const std::size_t V = node_ids.size();
   RowMatXf out(Eigen::Index(V), map.features.cols());
+  FirstTouchMatrix(out);  // the static split below would leave the heap's fresh end to one thread
   zero_norm.assign(V, 0);
   const auto vv = static_cast<std::int64_t>(V);
 #pragma omp parallel
