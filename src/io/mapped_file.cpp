@@ -7,6 +7,9 @@
 
 #include <cerrno>
 #include <cstring>
+#include <future>
+#include <mutex>
+#include <vector>
 
 #include "al/core/error.hpp"
 #include "al/core/input_file.hpp"
@@ -35,6 +38,32 @@ MappedFile::MappedFile(const std::string& path) {
 
 MappedFile::~MappedFile() {
   if (data_) ::munmap(const_cast<unsigned char*>(data_), size_);
+}
+
+namespace {
+
+// The unmappings under way; a finished one is dropped when the next starts, the rest are waited
+// for when the program ends (the futures' destructors).
+struct Unmappings {
+  std::mutex mutex;
+  std::vector<std::future<void>> running;
+};
+
+Unmappings& Pending() {
+  static Unmappings pending;
+  return pending;
+}
+
+}  // namespace
+
+void UnmapInBackground(std::unique_ptr<MappedFile> file) {
+  Unmappings& pending = Pending();
+  const std::lock_guard<std::mutex> lock(pending.mutex);
+  std::erase_if(pending.running, [](const std::future<void>& f) {
+    return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+  });
+  std::shared_ptr<MappedFile> shared(std::move(file));
+  pending.running.push_back(std::async(std::launch::async, [shared]() mutable { shared.reset(); }));
 }
 
 }  // namespace al::io

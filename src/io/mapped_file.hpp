@@ -2,6 +2,7 @@
 // same code also parses in-memory buffers (fuzzing, tests).
 #pragma once
 #include <cstddef>
+#include <memory>
 #include <string>
 
 namespace al::io {
@@ -21,5 +22,9 @@ class MappedFile {
   const unsigned char* data_ = nullptr;  // nullptr for an empty file (mmap of 0 bytes is invalid)
   std::size_t size_ = 0;
 };
+
+// Unmaps the file on a helper thread (joined at the latest when the program ends): unmapping a
+// decoded 700 MB scene takes ~25 ms, which the loading thread spends on the next input instead.
+void UnmapInBackground(std::unique_ptr<MappedFile> file);
 
 }  // namespace al::io

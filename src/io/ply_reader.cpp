@@ -2,6 +2,7 @@
 // The fast path (every property float32 in host byte order) is the plyfile/INRIA layout; every
 // other layout goes through a per-property converting loop. RASTERIZER.md §10.1, FORMATS.md §2.
 #include <algorithm>
+#include <memory>
 #include <bit>
 #include <charconv>
 #include <cmath>
@@ -630,8 +631,10 @@ Scene ReadPlyFromMemory(const void* data, std::size_t size, const std::string& n
 }
 
 Scene ReadPly(const std::string& path, const PlyReadOptions& options) {
-  const io::MappedFile file(path);
-  return ReadPlyImpl(file.data(), file.size(), path, options, /*file_backed=*/true);
+  auto file = std::make_unique<io::MappedFile>(path);
+  Scene scene = ReadPlyImpl(file->data(), file->size(), path, options, /*file_backed=*/true);
+  io::UnmapInBackground(std::move(file));
+  return scene;
 }
 
 }  // namespace al
