@@ -56,7 +56,7 @@ PointTree::PointTree(std::span<const float> xyz) {
   // Subtrees own disjoint node and member ranges: built as parallel tasks.
 #pragma omp parallel if (n > kParallelBuild)
 #pragma omp single
-  root_box_ = Build(members.data(), 0, n, 0);
+  root_box_ = Build(members.data(), 0, n, 0, Bounds(members.data(), 0, n));
   x_.resize(n), y_.resize(n), z_.resize(n), ids_.resize(n);
   for (std::size_t t = 0; t < n; ++t) {
     x_[t] = members[t].xyz[0], y_[t] = members[t].xyz[1], z_[t] = members[t].xyz[2];
@@ -72,30 +72,35 @@ PointTree::Box PointTree::Bounds(const Member* members, std::size_t begin, std::
   return b;
 }
 
-// Split at the median of the box's longest axis (ties by index: the tree is a function of the set);
-// returns the members' box. members is a pointer, not a reference: an OpenMP task's implicit
-// firstprivate would copy the object a reference refers to.
-PointTree::Box PointTree::Build(Member* members, std::size_t begin, std::size_t end, std::size_t id) {
-  const Box box = Bounds(members, begin, end);
-  Node n{0.0f, 0.0f, 0, std::uint32_t(begin), std::uint32_t(end), 0};
-  if (end - begin > kLeaf) {
-    int axis = 0;
-    for (int a = 1; a < 3; ++a)
-      if (box.hi[a] - box.lo[a] > box.hi[axis] - box.lo[axis]) axis = a;
-    const std::size_t mid = begin + (end - begin) / 2;
-    std::nth_element(members + begin, members + mid, members + end, [axis](const Member& x, const Member& y) {
-      return x.xyz[axis] < y.xyz[axis] || (x.xyz[axis] == y.xyz[axis] && x.id < y.id);
-    });
-    n.axis = std::uint32_t(axis);
-    n.right = std::uint32_t(id + 1 + NodeCount(mid - begin));
-    Box left;
-#pragma omp task shared(left) if (end - begin > kParallelBuild)
-    left = Build(members, begin, mid, id + 1);
-    const Box right = Build(members, mid, end, n.right);
-#pragma omp taskwait
-    n.cut_lo = left.hi[axis], n.cut_hi = right.lo[axis];
+// Split at the median of the longest axis of `region` (the parent's region cut at the parent's
+// median: the axis without a pass over the members; ties by index, so the tree is a function of
+// the set); returns the members' tight box, a leaf's from its members and a split's as its
+X. members is a pointer, not a
+// reference: an OpenMP task's implicit firstprivate would copy the object a reference refers to.
+PointTree::Box PointTree::Build(Member* members, std::size_t begin, std::size_t end, std::size_t id, Box region) {
+  if (end - begin <= kLeaf) {
+    nodes_[id] = Node{0.0f, 0.0f, 0, std::uint32_t(begin), std::uint32_t(end), 0};
+    return Bounds(members, begin, end);
   }
+  int axis = 0;
+  for (int a = 1; a < 3; ++a)
+    if (region.hi[a] - region.lo[a] > region.hi[axis] - region.lo[axis]) axis = a;
+  const std::size_t mid = begin + (end - begin) / 2;
+  std::nth_element(members + begin, members + mid, members + end, [axis](const Member& x, const Member& y) {
+    return x.xyz[axis] < y.xyz[axis] || (x.xyz[axis] == y.xyz[axis] && x.id < y.id);
+  });
+  Node n{0.0f, 0.0f, std::uint32_t(id + 1 + NodeCount(mid - begin)), std::uint32_t(begin), std::uint32_t(end),
+         std::uint32_t(axis)};
+  Box left_region = region, right_region = region, left;
+  left_region.hi[axis] = right_region.lo[axis] = members[mid].xyz[axis];
+#pragma omp task shared(left) if (end - begin > kParallelBuild)
+  left = Build(members, begin, mid, id + 1, left_region);
+  const Box right = Build(members, mid, end, n.right, right_region);
+#pragma omp taskwait
+  n.cut_lo = left.hi[axis], n.cut_hi = right.lo[axis];
   nodes_[id] = n;
+  Box box;
+  for (int a = 0; a < 3; ++a) box.lo[a] = std::min(left.lo[a], right.lo[a]), box.hi[a] = std::max(left.hi[a], right.hi[a]);
   return box;
 }
 

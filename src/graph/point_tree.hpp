@@ -52,7 +52,7 @@ class PointTree {
   struct Search;  // one query's state
   static std::size_t NodeCount(std::size_t size);
   static Box Bounds(const Member* members, std::size_t begin, std::size_t end);
-  Box Build(Member* members, std::size_t begin, std::size_t end, std::size_t id);
+  Box Build(Member* members, std::size_t begin, std::size_t end, std::size_t id, Box region);
   void Descend(std::uint32_t id, double bound, double* axis_bound, Search& s) const;
   void ScanLeaf(const Node& node, Search& s) const;
 
