@@ -75,7 +75,7 @@ PointTree::Box PointTree::Bounds(const Member* members, std::size_t begin, std::
 // Split at the median of the longest axis of `region` (the parent's region cut at the parent's
 // median: the axis without a pass over the members; ties by index, so the tree is a function of
 // the set); returns the members' tight box, a leaf's from its members and a split's as its
-X. members is a pointer, not a
+// children's union (3M room scene, 685k points: build 0.055 -> 0.048 s). members is a pointer, not a
 // reference: an OpenMP task's implicit firstprivate would copy the object a reference refers to.
 PointTree::Box PointTree::Build(Member* members, std::size_t begin, std::size_t end, std::size_t id, Box region) {
   if (end - begin <= kLeaf) {
