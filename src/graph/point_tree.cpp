@@ -68,7 +68,10 @@ PointTree::Box PointTree::Bounds(const Member* members, std::size_t begin, std::
   Box b;
   for (int a = 0; a < 3; ++a) b.lo[a] = std::numeric_limits<float>::infinity(), b.hi[a] = -b.lo[a];
   for (std::size_t k = begin; k < end; ++k)
-    for (int a = 0; a < 3; ++a) b.lo[a] = std::min(b.lo[a], members[k].xyz[a]), b.hi[a] = std::max(b.hi[a], members[k].xyz[a]);
+    for (int a = 0; a < 3; ++a) {
+      b.lo[a] = std::min(b.lo[a], members[k].xyz[a]);
+      b.hi[a] = std::max(b.hi[a], members[k].xyz[a]);
+    }
   return b;
 }
 
@@ -100,7 +103,10 @@ PointTree::Box PointTree::Build(Member* members, std::size_t begin, std::size_t 
   n.cut_lo = left.hi[axis], n.cut_hi = right.lo[axis];
   nodes_[id] = n;
   Box box;
-  for (int a = 0; a < 3; ++a) box.lo[a] = std::min(left.lo[a], right.lo[a]), box.hi[a] = std::max(left.hi[a], right.hi[a]);
+  for (int a = 0; a < 3; ++a) {
+    box.lo[a] = std::min(left.lo[a], right.lo[a]);
+    box.hi[a] = std::max(left.hi[a], right.hi[a]);
+  }
   return box;
 }
 

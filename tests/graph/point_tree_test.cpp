@@ -23,7 +23,8 @@ std::vector<TreeNeighbor> BruteForce(const std::vector<float>& xyz, const float*
   std::vector<TreeNeighbor> all;
   for (std::size_t j = 0; j < xyz.size() / 3; ++j)
     if (std::int32_t(j) != skip) all.push_back({SqDist(q, &xyz[3 * j]), std::int32_t(j)});
-  std::sort(all.begin(), all.end(), [](const TreeNeighbor& a, const TreeNeighbor& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+  std::sort(all.begin(), all.end(),
+            [](const TreeNeighbor& a, const TreeNeighbor& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
   if (all.size() > m) all.resize(m);
   return all;
 }
