@@ -263,16 +263,30 @@ void KnnGrouped(const Index& index, std::span<const float> uxyz, const Groups& g
   }
 }
 
-// Piles of up to this many coincident points are searched as they are: a query in a pile of p
-// scans the p - 1 others at distance 0 (the lists are the same), while one query per position
-// costs every query a longer list and an expansion (3M room scene, 58 points in piles of 2:
-// kNN 0.47 -> 0.39 s).
+// Exact search looks for piles of coincident points in the tree's leaves first (PointTree::
+// LargestPileInALeaf): with none above this many, the points are searched as they are — a query
+// in a pile of p scans the p - 1 others at distance 0, the lists are the same — and neither the
+// Morton sort nor the grouping runs (3M room scene, 58 points in piles of 2: kNN 0.47 -> 0.39 s
+// without one query per position, 0.40 -> 0.38 s without the sort). A larger pile (100k copies of a
+// point would make every query in it scan the pile) gets one query per position.
 constexpr std::size_t kSmallPile = 8;
 
-std::size_t LargestGroup(const Groups& g) {
-  std::size_t largest = 0;
-  for (std::size_t u = 0; u + 1 < g.begin.size(); ++u) largest = std::max(largest, std::size_t(g.begin[u + 1] - g.begin[u]));
-  return largest;
+// Points at exactly the position of an earlier point, from exact lists: such a point's list
+// starts with the zero distances, smallest indices first.
+std::size_t CountCoincident(std::span<const float> xyz, const KnnResult& r) {
+  const auto n = static_cast<std::int64_t>(xyz.size() / 3);
+  const int k = r.k;
+  std::size_t count = 0;
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (std::int64_t i = 0; i < n; ++i)
+    for (int c = 0; c < k && r.sq_dist[std::size_t(i) * k + c] == 0.0f; ++c) {
+      const std::int32_t j = r.neighbors[std::size_t(i) * k + c];
+      if (j < i && KeyOf(xyz, j) == KeyOf(xyz, std::int32_t(i))) {
+        ++count;
+        break;
+      }
+    }
+  return count;
 }
 
 // KnnAmongPoints when some points coincide: queries and trees over the unique positions.
@@ -301,8 +315,7 @@ void KnnAmongUnique(std::span<const float> xyz, const MortonCodes& codes, const 
 // Distinct points (or small piles), exact: one descent per point, queries in the tree's leaf
 // order. (Seeding a query with the previous one and its list, to prune from the first leaf on,
 // scanned 2 % fewer leaves and took 20 % longer.)
-void KnnExact(std::span<const float> xyz, KnnResult& result) {
-  const PointTree tree(xyz);
+void KnnExact(std::span<const float> xyz, const PointTree& tree, KnnResult& result) {
   const std::vector<std::int32_t>& order = tree.order();
   const int k = result.k;
   const auto n = static_cast<std::int64_t>(order.size());
@@ -378,13 +391,22 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
     result.seconds = timer.Seconds();
     return result;
   }
+  if (options.checks <= 0) {
+    const PointTree tree(xyz);
+    if (tree.LargestPileInALeaf() <= kSmallPile) {
+      KnnExact(xyz, tree, result);
+      result.coincident = CountCoincident(xyz, result);
+      result.seconds = timer.Seconds();
+      return result;
+    }
+  }
   const MortonCodes codes = SortedMortonCodes(xyz);
   const Groups groups = GroupCoincident(xyz, codes);
   if (!groups.rep.empty()) result.coincident = n - groups.rep.size();
-  if (!groups.rep.empty() && (options.checks > 0 || LargestGroup(groups) > kSmallPile))
+  if (!groups.rep.empty())
     KnnAmongUnique(xyz, codes, groups, options.checks, result);
   else if (options.checks <= 0)
-    KnnExact(xyz, result);
+    KnnExact(xyz, PointTree(xyz), result);
   else
     KnnApproximate(xyz, codes, options.checks, result);
   result.seconds = timer.Seconds();

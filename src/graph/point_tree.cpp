@@ -2,6 +2,8 @@
 #include "point_tree.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cstring>
 #include <limits>
 
 namespace al {
@@ -108,6 +110,28 @@ PointTree::Box PointTree::Build(Member* members, std::size_t begin, std::size_t 
     box.hi[a] = std::max(left.hi[a], right.hi[a]);
   }
   return box;
+}
+
+std::size_t PointTree::LargestPileInALeaf() const {
+  std::size_t largest = 0;
+  const auto count = static_cast<std::int64_t>(nodes_.size());
+#pragma omp parallel for schedule(dynamic, 1024) reduction(max : largest)
+  for (std::int64_t id = 0; id < count; ++id) {
+    const Node& node = nodes_[std::size_t(id)];
+    if (node.right != 0) continue;
+    std::array<std::array<std::uint32_t, 3>, kLeaf> keys;
+    const std::size_t size = node.end - node.begin;
+    for (std::size_t t = 0; t < size; ++t) {
+      const float p[3] = {x_[node.begin + t], y_[node.begin + t], z_[node.begin + t]};
+      std::memcpy(keys[t].data(), p, sizeof p);
+    }
+    std::sort(keys.begin(), keys.begin() + std::ptrdiff_t(size));
+    for (std::size_t t = 0, run = 1; t < size; ++t, ++run) {
+      if (t > 0 && keys[t] != keys[t - 1]) run = 1;
+      largest = std::max(largest, run);
+    }
+  }
+  return largest;
 }
 
 void PointTree::ScanLeaf(const Node& node, Search& s) const {

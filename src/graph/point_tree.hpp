@@ -29,6 +29,11 @@ class PointTree {
   // The point indices in the tree's leaf order: near in this list is near in space (query order).
   const std::vector<std::int32_t>& order() const { return ids_; }
 
+  // The most points at exactly one position (equal coordinate bits) within one leaf. A pile of
+  // coincident points larger than three leaves fills at least one leaf, so this finds every pile
+  // that would cost a query more than a few leaves' scan at distance 0.
+  std::size_t LargestPileInALeaf() const;
+
   // The m smallest (distance, index) pairs over the tree's points other than index `skip`
   // (-1: none), ascending, into out (fewer when the tree holds fewer).
   void Nearest(const float* q, std::size_t m, std::int32_t skip, std::vector<TreeNeighbor>& out) const;

@@ -110,6 +110,20 @@ TEST(PointTree, AgreesWithFlannsExactTree) {
   }
 }
 
+// Piles of three among distinct points: no leaf holds more than three at one position.
+TEST(PointTree, SmallPilesStaySmallInLeaves) {
+  std::mt19937 rng(2);
+  std::uniform_real_distribution<float> u(0.0f, 1.0f);
+  std::vector<float> xyz;
+  for (int i = 0; i < 3000; ++i) {
+    const float p[3] = {u(rng), u(rng), u(rng)};
+    for (int c = 0; c < (i % 10 == 0 ? 3 : 1); ++c) xyz.insert(xyz.end(), p, p + 3);
+  }
+  const PointTree tree(xyz);
+  EXPECT_GE(tree.LargestPileInALeaf(), 1u);
+  EXPECT_LE(tree.LargestPileInALeaf(), 3u);
+}
+
 TEST(PointTree, DegenerateSets) {
   std::vector<TreeNeighbor> got;
   const PointTree empty(std::vector<float>{});
@@ -130,6 +144,8 @@ TEST(PointTree, DegenerateSets) {
   piled.Nearest(pile.data(), 4, 2, got);
   ASSERT_EQ(got.size(), 4u);
   EXPECT_EQ((std::vector<std::int32_t>{got[0].i, got[1].i, got[2].i, got[3].i}), (std::vector<std::int32_t>{0, 1, 3, 4}));
+  EXPECT_GE(piled.LargestPileInALeaf(), 16u);  // a pile that fills leaves is seen
+  EXPECT_EQ(single.LargestPileInALeaf(), 1u);
   // Coordinates whose squares overflow float: distances are inf, the order falls back to the index.
   const std::vector<float> far = {3e19f, 0, 0, -3e19f, 0, 0, 0, 3e19f, 0};
   const PointTree huge(far);

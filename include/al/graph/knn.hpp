@@ -6,9 +6,10 @@
 // the last returned one. The query point is excluded by index, not by distance (duplicates are
 // neighbours at distance 0); equal distances are broken by the smaller point index, so the
 // answer does not depend on the tree. OpenMP over blocks of queries in a spatial order; the
-// result is independent of the thread count. Piles of more than 8 exactly coincident points are
-// grouped first (one query per position, O(k) per point): the answer is the same, but a pile of
-// 100k duplicates no longer makes every query look at the whole pile.
+// result is independent of the thread count. When a leaf of the exact tree holds more than 8
+// exactly coincident points, the points are grouped first (one query per position, O(k) per
+// point): the answer is the same, but a pile of 100k duplicates no longer makes every query look
+// at the whole pile.
 #pragma once
 #include <cstdint>
 #include <span>
