@@ -312,19 +312,17 @@ void KnnAmongUnique(std::span<const float> xyz, const MortonCodes& codes, const 
   result.tie_retries = retries;
 }
 
-// Distinct points (or small piles), exact: one descent per point, queries in the tree's leaf
-// order. (Seeding a query with the previous one and its list, to prune from the first leaf on,
-// scanned 2 % fewer leaves and took 20 % longer.)
-void KnnExact(std::span<const float> xyz, const PointTree& tree, KnnResult& result) {
-  const std::vector<std::int32_t>& order = tree.order();
+// The lists of the points `queries` (indices into xyz, the tree's points) into result's rows.
+void ListsFromTree(const PointTree& tree, std::span<const float> xyz, std::span<const std::int32_t> queries,
+                   KnnResult& result) {
   const int k = result.k;
-  const auto n = static_cast<std::int64_t>(order.size());
+  const auto n = static_cast<std::int64_t>(queries.size());
 #pragma omp parallel
   {
     std::vector<TreeNeighbor> found;
-#pragma omp for schedule(dynamic, 1024)
+#pragma omp for schedule(dynamic, 512)
     for (std::int64_t t = 0; t < n; ++t) {
-      const std::int32_t i = order[std::size_t(t)];
+      const std::int32_t i = queries[std::size_t(t)];
       tree.Nearest(&xyz[3 * std::size_t(i)], std::size_t(k), i, found);
       for (std::size_t c = 0; c < found.size(); ++c) {
         result.neighbors[std::size_t(i) * k + c] = found[c].i;
@@ -332,6 +330,13 @@ void KnnExact(std::span<const float> xyz, const PointTree& tree, KnnResult& resu
       }
     }
   }
+}
+
+// Distinct points (or small piles), exact: one descent per point, queries in the tree's leaf
+// order. (Seeding a query with the previous one and its list, to prune from the first leaf on,
+// scanned 2 % fewer leaves and took 20 % longer.)
+void KnnExact(std::span<const float> xyz, const PointTree& tree, KnnResult& result) {
+  ListsFromTree(tree, xyz, tree.order(), result);
 }
 
 // Distinct points, FLANN's randomized trees (fixed seed: reproducible), queries in Morton order.
@@ -484,22 +489,7 @@ KnnResult KnnWithAddedPoints(std::span<const float> xyz, const KnnResult& before
       r.sq_dist[std::size_t(new_of_old[std::size_t(u)]) * k + c] = before.sq_dist[std::size_t(u) * k + c];
     }
   AddedIntoOldLists(xyz, new_of_old, added, r);
-  const PointTree tree(xyz);
-  // The added points' own lists.
-  const auto m = static_cast<std::int64_t>(added.size());
-#pragma omp parallel
-  {
-    std::vector<TreeNeighbor> found;
-#pragma omp for schedule(dynamic, 256)
-    for (std::int64_t t = 0; t < m; ++t) {
-      const std::int32_t i = added[std::size_t(t)];
-      tree.Nearest(&xyz[3 * std::size_t(i)], std::size_t(k), i, found);
-      for (std::size_t c = 0; c < found.size(); ++c) {
-        r.neighbors[std::size_t(i) * k + c] = found[c].i;
-        r.sq_dist[std::size_t(i) * k + c] = found[c].d;
-      }
-    }
-  }
+  ListsFromTree(PointTree(xyz), xyz, added, r);  // the added points' own lists
   r.tie_retries = before.tie_retries;
   r.coincident = before.coincident;
   r.seconds = timer.Seconds();

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "al/graph/knn.hpp"
+#include "tests/graph/clustered_points.hpp"
 
 namespace al {
 namespace {
@@ -73,15 +74,7 @@ TEST(Knn, TwoHalfTreesGiveTheBruteForceAnswer) {
 // 1e6, and fewer points than k: lists and float distances equal brute force's.
 TEST(Knn, ClusteredScalesAndTinySetsGiveTheBruteForceAnswer) {
   for (const double unit : {1e-6, 1.0, 1e6}) {
-    std::mt19937 rng(17);
-    std::lognormal_distribution<double> scale(0.0, 2.5);
-    std::normal_distribution<double> g(0.0, 1.0);
-    std::vector<float> xyz;
-    for (int c = 0; c < 40; ++c) {
-      const double s = scale(rng), cx = g(rng) * 20, cy = g(rng) * 20, cz = g(rng) * 20;
-      for (int i = 0; i < 100; ++i)
-        for (const double v : {cx + g(rng) * s, cy + g(rng) * s, cz + g(rng) * s}) xyz.push_back(float(v * unit));
-    }
+    const std::vector<float> xyz = test_points::ClusteredPoints(17, 40, 100, 2.5, 20.0, unit);
     for (int k : {1, 12}) {
       const KnnResult r = KnnAmongPoints(xyz, {k, 0});
       for (std::size_t i = 0; i < xyz.size() / 3; i += 7) {

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "src/graph/point_tree.hpp"
+#include "tests/graph/clustered_points.hpp"
 
 namespace al {
 namespace {
@@ -45,17 +46,7 @@ std::vector<std::vector<float>> HardSets() {
   std::vector<float> lattice;
   for (int i = 0; i < 3000; ++i) lattice.insert(lattice.end(), {float(i % 15), float((i / 15) % 20), float(i / 300)});
   sets.push_back(lattice);
-  for (const double unit : {1e-6, 1e6}) {
-    std::lognormal_distribution<double> scale(0.0, 3.0);
-    std::normal_distribution<double> g(0.0, 1.0);
-    std::vector<float> clusters;
-    for (int c = 0; c < 30; ++c) {
-      const double s = scale(rng), cx = g(rng) * 30, cy = g(rng) * 30, cz = g(rng) * 30;
-      for (int i = 0; i < 80; ++i)
-        for (const double v : {cx + g(rng) * s, cy + g(rng) * s, cz + g(rng) * s}) clusters.push_back(float(v * unit));
-    }
-    sets.push_back(clusters);
-  }
+  for (const double unit : {1e-6, 1e6}) sets.push_back(test_points::ClusteredPoints(5, 30, 80, 3.0, 30.0, unit));
   std::vector<float> piles;
   for (int i = 0; i < 1500; ++i) piles.insert(piles.end(), {float(rng() % 6), float(rng() % 6), 0.5f});
   sets.push_back(piles);
