@@ -62,17 +62,13 @@ MortonCodes SortedMortonCodes(std::span<const float> xyz) {
   return code;
 }
 
-struct Entry {
-  float d;
-  std::int32_t i;
-};
+// A list entry: (squared distance, index), ordered by NeighborBefore (point_tree.hpp).
+using Entry = TreeNeighbor;
 
 // Neighbours asked for beyond the k + 1 a query needs: room for a tie at the k-th before a second
 // search is needed. Exact search gives the same lists for any value; a larger one only makes
 // every search keep (and insert into) a longer list.
 constexpr std::size_t kTieSlack = 1;
-
-bool EntryLess(const Entry& a, const Entry& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); }
 
 // Squared distance from p to the box [lo, hi] (a lower bound of its distance to any point inside).
 double BoxDistance(const float* p, const float* lo, const float* hi) {
@@ -135,7 +131,7 @@ void Query(const Index& index, const float* q, std::int32_t self, int k, std::si
     out.clear();
     for (std::size_t t = 0; t < got; ++t)
       if (static_cast<std::int32_t>(s.idx[t]) != self) out.push_back({s.dist[t], static_cast<std::int32_t>(s.idx[t])});
-    std::sort(out.begin(), out.end(), EntryLess);
+    std::sort(out.begin(), out.end(), NeighborBefore);
     // Complete when every point was returned, or the k-th kept neighbour is strictly closer
     // than the farthest returned point (so no unseen point can tie with it).
     const bool all = got >= n || got < m;
@@ -228,7 +224,7 @@ void QueryGroup(const Index& index, const float* q, std::int32_t u, std::size_t 
       const std::int32_t end = std::min<std::int32_t>(g.begin[v + 1], g.begin[v] + std::int32_t(want));
       for (std::int32_t r = g.begin[v]; r < end; ++r) out.push_back({s.dist[t], g.members[r]});
     }
-    std::sort(out.begin(), out.end(), EntryLess);
+    std::sort(out.begin(), out.end(), NeighborBefore);
     const bool all = got >= m || got < ask;
     if (all || (out.size() >= want && out[want - 1].d < s.dist[got - 1])) break;
     ask = std::min(m, 2 * ask);
@@ -294,15 +290,15 @@ void KnnAmongUnique(std::span<const float> xyz, const MortonCodes& codes, const 
                     KnnResult& result) {
   std::vector<float> uxyz(3 * groups.rep.size());
   for (std::size_t u = 0; u < groups.rep.size(); ++u) std::copy_n(&xyz[3 * std::size_t(groups.rep[u])], 3, &uxyz[3 * u]);
-  std::vector<std::int32_t> order;  // the unique points in Morton order (their first members')
-  order.reserve(groups.rep.size());
-  for (const auto& [code, i] : codes)
-    if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
   std::size_t retries = 0;
   if (checks <= 0) {
     const PointTree tree(uxyz);
     KnnGrouped(tree, uxyz, groups, tree.order(), result.k, flann::SearchParams(), result, retries);
   } else {
+    std::vector<std::int32_t> order;  // the unique points in Morton order (their first members')
+    order.reserve(groups.rep.size());
+    for (const auto& [code, i] : codes)
+      if (groups.rep[std::size_t(groups.group_of[std::size_t(i)])] == i) order.push_back(groups.group_of[std::size_t(i)]);
     flann::seed_random(12345);
     flann::Matrix<float> udata(uxyz.data(), groups.rep.size(), 3);
     flann::KDTreeIndex<flann::L2_Simple<float>> index(udata, flann::KDTreeIndexParams(4));
@@ -405,15 +401,15 @@ KnnResult KnnAmongPoints(std::span<const float> xyz, const KnnOptions& options) 
       return result;
     }
   }
+  // Exact search gets here only with a pile in a leaf, so with coincident points to group.
   const MortonCodes codes = SortedMortonCodes(xyz);
   const Groups groups = GroupCoincident(xyz, codes);
-  if (!groups.rep.empty()) result.coincident = n - groups.rep.size();
-  if (!groups.rep.empty())
-    KnnAmongUnique(xyz, codes, groups, options.checks, result);
-  else if (options.checks <= 0)
-    KnnExact(xyz, PointTree(xyz), result);
-  else
+  if (groups.rep.empty()) {
     KnnApproximate(xyz, codes, options.checks, result);
+  } else {
+    result.coincident = n - groups.rep.size();
+    KnnAmongUnique(xyz, codes, groups, options.checks, result);
+  }
   result.seconds = timer.Seconds();
   return result;
 }
@@ -424,7 +420,7 @@ namespace {
 void MergeInto(std::int32_t* nb, float* sd, int k, std::vector<TreeNeighbor>& extra) {
   for (int c = 0; c < k; ++c)
     if (nb[c] >= 0) extra.push_back({sd[c], nb[c]});
-  std::sort(extra.begin(), extra.end(), [](const TreeNeighbor& a, const TreeNeighbor& b) { return a.d < b.d || (a.d == b.d && a.i < b.i); });
+  std::sort(extra.begin(), extra.end(), NeighborBefore);
   for (int c = 0; c < k; ++c) {
     nb[c] = c < int(extra.size()) ? extra[std::size_t(c)].i : -1;
     sd[c] = c < int(extra.size()) ? extra[std::size_t(c)].d : 0.0f;

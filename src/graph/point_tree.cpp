@@ -12,8 +12,6 @@ namespace {
 constexpr std::size_t kLeaf = 32;              // points per leaf at most
 constexpr std::size_t kParallelBuild = 32768;  // smaller subtrees: built by one task
 
-bool Before(float d, std::int32_t i, const TreeNeighbor& e) { return d < e.d || (d == e.d && i < e.i); }
-
 }  // namespace
 
 // The list lives in the caller's vector, sized m up front; its length is a local count (a
@@ -33,14 +31,15 @@ struct PointTree::Search {
   // (d, i) into the ascending list of at most m entries: entries after its place move up one.
   void Offer(float d, std::int32_t i) {
     std::size_t t = count;
+    const TreeNeighbor entry{d, i};
     if (count == m) {
-      if (!Before(d, i, list[m - 1])) return;
+      if (!NeighborBefore(entry, list[m - 1])) return;
       t = m - 1;
     } else {
       ++count;
     }
-    for (; t > 0 && Before(d, i, list[t - 1]); --t) list[t] = list[t - 1];
-    list[t] = {d, i};
+    for (; t > 0 && NeighborBefore(entry, list[t - 1]); --t) list[t] = list[t - 1];
+    list[t] = entry;
     if (count == m) limit = double(list[m - 1].d) * (1.0 + 1e-5) + 1e-30;
   }
 };

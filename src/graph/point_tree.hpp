@@ -20,6 +20,11 @@ struct TreeNeighbor {
   std::int32_t i;
 };
 
+// The lists' order: nearer first, ties by the smaller index.
+inline bool NeighborBefore(const TreeNeighbor& a, const TreeNeighbor& b) {
+  return a.d < b.d || (a.d == b.d && a.i < b.i);
+}
+
 class PointTree {
  public:
   // xyz: n×3 row-major; copied (the tree does not keep the span).

@@ -62,8 +62,8 @@ void UnmapInBackground(std::unique_ptr<MappedFile> file) {
   std::erase_if(pending.running, [](const std::future<void>& f) {
     return f.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
   });
-  std::shared_ptr<MappedFile> shared(std::move(file));
-  pending.running.push_back(std::async(std::launch::async, [shared]() mutable { shared.reset(); }));
+  // The task owns the file alone, so the unmapping always happens on its thread.
+  pending.running.push_back(std::async(std::launch::async, [owned = std::move(file)]() mutable { owned.reset(); }));
 }
 
 }  // namespace al::io

@@ -2,13 +2,13 @@
 // The fast path (every property float32 in host byte order) is the plyfile/INRIA layout; every
 // other layout goes through a per-property converting loop. RASTERIZER.md §10.1, FORMATS.md §2.
 #include <algorithm>
-#include <memory>
 #include <bit>
 #include <charconv>
 #include <cmath>
 #include <cstring>
 #include <limits>
 #include <map>
+#include <memory>
 #include <optional>
 #include <string_view>
 

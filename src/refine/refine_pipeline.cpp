@@ -144,7 +144,7 @@ RefineResult RefineLoaded(const RefineInputs& in, const RefineOptions& o, Solver
     t.Reset();
   }
 
-  std::future<void> remaining;  // after `grown` and `solved`: destroyed (waited for) before them
+  std::future<void> remaining;  // reads `in` (the caller's) and its own mask; waited for on every way out
   if (set) remaining = StartRemainingPly(in, solved.refined, set->dir());
   RefineResult result;
   result.removed = in.removal.removed;
